@@ -1,0 +1,37 @@
+#pragma once
+// Progress reporting: a redrawn bar when stderr is a terminal, otherwise plain log lines at
+// roughly every 10 %. Thread-safe Tick(), so parallel loops can report as they finish items.
+#include <atomic>
+#include <cstddef>
+#include <mutex>
+#include <string>
+
+namespace varsfm {
+
+class Progress {
+ public:
+  Progress(std::string label, size_t total);
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  // Marks `n` more items done; `status` (optional) is shown after the counter.
+  void Tick(size_t n = 1, const std::string& status = "");
+  // Replaces the status text without advancing.
+  void SetStatus(const std::string& status);
+  void Finish();
+
+ private:
+  void Draw(size_t done, const std::string& status);
+
+  std::string label_;
+  size_t total_;
+  std::atomic<size_t> done_{0};
+  std::mutex mutex_;
+  bool tty_;
+  bool finished_ = false;
+  size_t last_logged_decile_ = 0;
+  std::string status_;
+};
+
+}  // namespace varsfm

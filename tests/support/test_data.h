@@ -1,0 +1,37 @@
+#pragma once
+// Test helpers: where the shared real-photograph data lives, the varsfm binary, temp folders.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace varsfm::testing {
+
+// ../shared/data seen from the project root, or an empty path when it is absent.
+std::filesystem::path SharedDataDir();
+
+// The command-line tool built beside the tests (build/varsfm).
+std::filesystem::path VarsfmBinary();
+
+// A fresh, empty folder under the build tree, removed when the object dies.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name);
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Runs a shell command, returning its exit code; stdout+stderr go to `output` if given.
+int RunCommand(const std::string& command, std::string* output = nullptr);
+
+}  // namespace varsfm::testing
+
+// Skips the current test (with a message) unless ../shared/data/<relative> exists; otherwise
+// defines `data_path` as the full path.
+#define VARSFM_REQUIRE_SHARED_DATA(data_path, relative)                                  \
+  const std::filesystem::path data_path = ::varsfm::testing::SharedDataDir() / (relative); \
+  if (::varsfm::testing::SharedDataDir().empty() || !std::filesystem::exists(data_path))  \
+  GTEST_SKIP() << "../shared/data/" << (relative) << " is absent; skipping"
