@@ -1,0 +1,72 @@
+#include "varsfm/camera/camera.h"
+
+#include <gtest/gtest.h>
+
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+Camera TestCamera() {
+  Camera c = Camera::FromFocal(1024, 683, 900.0);
+  c.params = {900.0, 1.02, 0.5, 515.0, 340.0, -0.12, 0.03};
+  return c;
+}
+
+TEST(Camera, KMatchesParameters) {
+  const Camera c = TestCamera();
+  const Eigen::Matrix3d K = c.K();
+  EXPECT_DOUBLE_EQ(K(0, 0), 900.0);
+  EXPECT_DOUBLE_EQ(K(1, 1), 900.0 * 1.02);
+  EXPECT_DOUBLE_EQ(K(0, 1), 0.5);
+  EXPECT_DOUBLE_EQ(K(0, 2), 515.0);
+  EXPECT_DOUBLE_EQ(K(1, 2), 340.0);
+  Camera d = Camera::FromFocal(10, 10, 1.0);
+  d.SetK(K);
+  EXPECT_NEAR(d.params[Camera::kAspect], 1.02, 1e-12);
+}
+
+TEST(Camera, ProjectionWithoutDistortionIsKTimesNormalised) {
+  Camera c = TestCamera();
+  c.params[Camera::kK1] = c.params[Camera::kK2] = 0;
+  const Eigen::Vector3d X(0.3, -0.2, 2.5);
+  const Eigen::Vector3d x = c.K() * X;
+  EXPECT_TRUE(c.Project(X).isApprox(x.hnormalized(), 1e-12));
+}
+
+TEST(Camera, UnprojectInvertsProjectWithDistortion) {
+  const Camera c = TestCamera();
+  for (double x = -0.5; x <= 0.5; x += 0.1) {
+    for (double y = -0.35; y <= 0.35; y += 0.07) {
+      const Eigen::Vector2d n(x, y);
+      const Eigen::Vector2d pixel = c.NormalizedToImage(n);
+      EXPECT_LT((c.ImageToNormalized(pixel) - n).norm(), 1e-10) << x << " " << y;
+    }
+  }
+}
+
+TEST(ColmapModels, RoundTripThroughSmallestModel) {
+  Camera c = TestCamera();
+  c.params[Camera::kSkew] = 0;
+  for (int variant = 0; variant < 4; ++variant) {
+    Camera v = c;
+    if (variant == 0) v.params[Camera::kK1] = v.params[Camera::kK2] = 0;
+    if (variant == 1) v.params[Camera::kK2] = 0;
+    if (variant >= 2) v.params[Camera::kAspect] = variant == 2 ? 1.0 : 1.05;
+    const int model = SmallestColmapModel(v);
+    const Camera back = CameraFromColmap(model, ToColmapParams(v, model), v.width, v.height);
+    for (int i = 0; i < Camera::kNumParams; ++i)
+      EXPECT_NEAR(back.params[i], v.params[i], 1e-12) << "variant " << variant << " param " << i;
+  }
+  EXPECT_EQ(ColmapModelName(kColmapSimpleRadial), "SIMPLE_RADIAL");
+  EXPECT_EQ(ColmapModelIdFromName("OPENCV"), kColmapOpenCV);
+}
+
+TEST(ColmapModels, RejectsUnsupportedModelsAndWrongCounts) {
+  EXPECT_THROW(CameraFromColmap(5, {1, 2, 3, 4, 5, 6, 7, 8}, 10, 10), Error);
+  EXPECT_THROW(CameraFromColmap(kColmapPinhole, {1, 2, 3}, 10, 10), Error);
+}
+
+}  // namespace
+}  // namespace varsfm
