@@ -1,0 +1,216 @@
+#include "varsfm/scene/reconstruction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+double AngleBetweenRays(const Eigen::Vector3d& c1, const Eigen::Vector3d& c2,
+                        const Eigen::Vector3d& x) {
+  const Eigen::Vector3d r1 = (x - c1).normalized(), r2 = (x - c2).normalized();
+  return std::acos(std::clamp(r1.dot(r2), -1.0, 1.0));
+}
+
+}  // namespace
+
+size_t Image::NumPoints3D() const {
+  return std::count_if(points2D.begin(), points2D.end(),
+                       [](const Point2D& p) { return p.HasPoint3D(); });
+}
+
+void Reconstruction::AddCamera(const Camera& camera) { cameras_[camera.camera_id] = camera; }
+
+void Reconstruction::AddImage(Image image) {
+  if (!ExistsCamera(image.camera_id))
+    Fail("image {} refers to camera {}, which is not in the model", image.name, image.camera_id);
+  const image_t id = image.image_id;
+  images_[id] = std::move(image);
+}
+
+void Reconstruction::DeRegisterImage(image_t id) {
+  Image& image = images_.at(id);
+  for (point2D_t idx = 0; idx < image.points2D.size(); ++idx)
+    if (image.points2D[idx].HasPoint3D()) DeleteObservation(id, idx);
+  image.registered = false;
+}
+
+std::vector<image_t> Reconstruction::RegisteredImageIds() const {
+  std::vector<image_t> ids;
+  for (const auto& [id, image] : images_)
+    if (image.registered) ids.push_back(id);
+  return ids;
+}
+
+size_t Reconstruction::NumRegisteredImages() const { return RegisteredImageIds().size(); }
+
+point3D_t Reconstruction::AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track,
+                                     const Eigen::Matrix<uint8_t, 3, 1>& color) {
+  const point3D_t id = next_point3D_id_++;
+  for (const auto& el : track) images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = id;
+  Point3D& point = points3D_[id];
+  point.xyz = xyz;
+  point.color = color;
+  point.track = std::move(track);
+  return id;
+}
+
+void Reconstruction::AddObservation(point3D_t point3D_id, const TrackElement& element) {
+  images_.at(element.image_id).points2D.at(element.point2D_idx).point3D_id = point3D_id;
+  points3D_.at(point3D_id).track.push_back(element);
+}
+
+void Reconstruction::DeleteObservation(image_t image_id, point2D_t point2D_idx) {
+  Point2D& p2 = images_.at(image_id).points2D.at(point2D_idx);
+  const point3D_t id = p2.point3D_id;
+  if (id == kInvalidPoint3DId) return;
+  p2.point3D_id = kInvalidPoint3DId;
+  auto& track = points3D_.at(id).track;
+  std::erase_if(track, [&](const TrackElement& el) {
+    return el.image_id == image_id && el.point2D_idx == point2D_idx;
+  });
+  if (track.size() < 2) DeletePoint3D(id);
+}
+
+void Reconstruction::DeletePoint3D(point3D_t point3D_id) {
+  const auto it = points3D_.find(point3D_id);
+  if (it == points3D_.end()) return;
+  for (const auto& el : it->second.track)
+    images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = kInvalidPoint3DId;
+  points3D_.erase(it);
+}
+
+point3D_t Reconstruction::MergePoints3D(point3D_t id1, point3D_t id2) {
+  Point3D& p1 = points3D_.at(id1);
+  Point3D& p2 = points3D_.at(id2);
+  const double w1 = static_cast<double>(p1.track.size()), w2 = static_cast<double>(p2.track.size());
+  p1.xyz = (w1 * p1.xyz + w2 * p2.xyz) / (w1 + w2);
+  for (const auto& el : p2.track) {
+    images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = id1;
+    p1.track.push_back(el);
+  }
+  points3D_.erase(id2);
+  return id1;
+}
+
+bool Reconstruction::Project(image_t image_id, const Eigen::Vector3d& xyz,
+                             Eigen::Vector2d* pixel) const {
+  const Image& image = images_.at(image_id);
+  const Eigen::Vector3d x_cam = image.cam_from_world * xyz;
+  if (x_cam.z() <= std::numeric_limits<double>::epsilon()) return false;
+  *pixel = cameras_.at(image.camera_id).Project(x_cam);
+  return true;
+}
+
+double Reconstruction::SquaredReprojectionError(const TrackElement& el,
+                                                const Eigen::Vector3d& xyz) const {
+  Eigen::Vector2d pixel;
+  if (!Project(el.image_id, xyz, &pixel)) return std::numeric_limits<double>::infinity();
+  return (pixel - images_.at(el.image_id).points2D.at(el.point2D_idx).xy).squaredNorm();
+}
+
+size_t Reconstruction::NumObservations() const {
+  size_t n = 0;
+  for (const auto& [id, point] : points3D_) n += point.track.size();
+  return n;
+}
+
+double Reconstruction::MeanTrackLength() const {
+  return points3D_.empty() ? 0.0 : static_cast<double>(NumObservations()) / points3D_.size();
+}
+
+double Reconstruction::UpdatePointErrors() {
+  double sum = 0;
+  size_t n = 0;
+  for (auto& [id, point] : points3D_) {
+    double point_sum = 0;
+    for (const auto& el : point.track) point_sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
+    point.error = point.track.empty() ? -1.0 : point_sum / point.track.size();
+    sum += point_sum;
+    n += point.track.size();
+  }
+  return n ? sum / n : 0.0;
+}
+
+double Reconstruction::RmsReprojectionError() const {
+  double sum_sq = 0;
+  size_t n = 0;
+  for (const auto& [id, point] : points3D_)
+    for (const auto& el : point.track) {
+      sum_sq += SquaredReprojectionError(el, point.xyz);
+      ++n;
+    }
+  return n ? std::sqrt(sum_sq / n) : 0.0;
+}
+
+double Reconstruction::MeanReprojectionError() const {
+  double sum = 0;
+  size_t n = 0;
+  for (const auto& [id, point] : points3D_)
+    for (const auto& el : point.track) {
+      sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
+      ++n;
+    }
+  return n ? sum / n : 0.0;
+}
+
+namespace {
+
+// The ids of the points observed in `image_ids` (every point when empty).
+std::vector<point3D_t> PointsSeenBy(const Reconstruction& rec, const std::vector<image_t>& ids) {
+  std::vector<point3D_t> out;
+  if (ids.empty()) {
+    for (const auto& [id, point] : rec.points3D()) out.push_back(id);
+    return out;
+  }
+  std::set<point3D_t> seen;
+  for (const image_t image_id : ids)
+    for (const auto& p2 : rec.image(image_id).points2D)
+      if (p2.HasPoint3D()) seen.insert(p2.point3D_id);
+  return {seen.begin(), seen.end()};
+}
+
+}  // namespace
+
+size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
+                                                        const std::vector<image_t>& image_ids) {
+  const double max_sq = max_error_px * max_error_px;
+  size_t removed = 0;
+  for (const point3D_t id : PointsSeenBy(*this, image_ids)) {
+    if (!ExistsPoint3D(id)) continue;
+    const Point3D point = points3D_.at(id);  // copy: DeleteObservation edits the track
+    for (const auto& el : point.track) {
+      if (SquaredReprojectionError(el, point.xyz) <= max_sq) continue;
+      DeleteObservation(el.image_id, el.point2D_idx);
+      ++removed;
+      if (!ExistsPoint3D(id)) break;
+    }
+  }
+  return removed;
+}
+
+size_t Reconstruction::FilterPointsWithSmallTriangulationAngle(
+    double min_angle_deg, const std::vector<image_t>& image_ids) {
+  const double min_angle = min_angle_deg * std::numbers::pi / 180.0;
+  size_t removed = 0;
+  for (const point3D_t id : PointsSeenBy(*this, image_ids)) {
+    const Point3D& point = points3D_.at(id);
+    std::vector<Eigen::Vector3d> centers;
+    for (const auto& el : point.track) centers.push_back(images_.at(el.image_id).Center());
+    double max_angle = 0;
+    for (size_t i = 0; i < centers.size() && max_angle < min_angle; ++i)
+      for (size_t j = i + 1; j < centers.size() && max_angle < min_angle; ++j)
+        max_angle = std::max(max_angle, AngleBetweenRays(centers[i], centers[j], point.xyz));
+    if (max_angle >= min_angle) continue;
+    removed += point.track.size();
+    DeletePoint3D(id);
+  }
+  return removed;
+}
+
+}  // namespace varsfm

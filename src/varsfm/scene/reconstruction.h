@@ -1,0 +1,112 @@
+#pragma once
+// The sparse model: cameras (one per image unless intrinsics are shared), images with their
+// poses and 2D points, and 3D points with their tracks. Ordered containers keep iteration
+// order, and so every result, deterministic.
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsfm/camera/camera.h"
+#include "varsfm/geometry/rigid3.h"
+#include "varsfm/util/types.h"
+
+namespace varsfm {
+
+struct Point2D {
+  Eigen::Vector2d xy = Eigen::Vector2d::Zero();
+  point3D_t point3D_id = kInvalidPoint3DId;
+  bool HasPoint3D() const { return point3D_id != kInvalidPoint3DId; }
+};
+
+struct TrackElement {
+  image_t image_id = kInvalidImageId;
+  point2D_t point2D_idx = kInvalidPoint2DIdx;
+};
+
+struct Point3D {
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
+  Eigen::Matrix<uint8_t, 3, 1> color = Eigen::Matrix<uint8_t, 3, 1>::Zero();
+  double error = -1.0;  // mean reprojection error (px), -1 when not computed
+  std::vector<TrackElement> track;
+};
+
+struct Image {
+  image_t image_id = kInvalidImageId;
+  std::string name;
+  camera_t camera_id = 0;
+  Rigid3d cam_from_world;
+  bool registered = false;
+  std::vector<Point2D> points2D;
+
+  size_t NumPoints3D() const;
+  Eigen::Vector3d Center() const { return cam_from_world.Center(); }
+};
+
+class Reconstruction {
+ public:
+  void AddCamera(const Camera& camera);  // keyed by camera.camera_id
+  void AddImage(Image image);            // keyed by image.image_id
+  bool ExistsCamera(camera_t id) const { return cameras_.count(id) > 0; }
+  bool ExistsImage(image_t id) const { return images_.count(id) > 0; }
+  bool ExistsPoint3D(point3D_t id) const { return points3D_.count(id) > 0; }
+
+  Camera& camera(camera_t id) { return cameras_.at(id); }
+  const Camera& camera(camera_t id) const { return cameras_.at(id); }
+  Image& image(image_t id) { return images_.at(id); }
+  const Image& image(image_t id) const { return images_.at(id); }
+  Point3D& point3D(point3D_t id) { return points3D_.at(id); }
+  const Point3D& point3D(point3D_t id) const { return points3D_.at(id); }
+  // The camera of an image.
+  Camera& CameraOf(image_t id) { return cameras_.at(images_.at(id).camera_id); }
+  const Camera& CameraOf(image_t id) const { return cameras_.at(images_.at(id).camera_id); }
+
+  const std::map<camera_t, Camera>& cameras() const { return cameras_; }
+  const std::map<image_t, Image>& images() const { return images_; }
+  const std::map<point3D_t, Point3D>& points3D() const { return points3D_; }
+  std::map<point3D_t, Point3D>& points3D() { return points3D_; }
+
+  void RegisterImage(image_t id) { images_.at(id).registered = true; }
+  // Unregisters and removes the image's observations from every track.
+  void DeRegisterImage(image_t id);
+  std::vector<image_t> RegisteredImageIds() const;
+  size_t NumRegisteredImages() const;
+
+  // Adds a point and links every track element's 2D point to it. Returns its id.
+  point3D_t AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track,
+                       const Eigen::Matrix<uint8_t, 3, 1>& color = {});
+  void AddObservation(point3D_t point3D_id, const TrackElement& element);
+  // Removes one observation; the point goes too when fewer than two remain.
+  void DeleteObservation(image_t image_id, point2D_t point2D_idx);
+  void DeletePoint3D(point3D_t point3D_id);
+  // Merges two points (tracks joined, position averaged by track length). Returns the kept id.
+  point3D_t MergePoints3D(point3D_t point3D_id1, point3D_t point3D_id2);
+
+  // Reprojection of a point in an image (through the image's camera, with distortion).
+  // Returns false when the point is behind the camera.
+  bool Project(image_t image_id, const Eigen::Vector3d& xyz, Eigen::Vector2d* pixel) const;
+  // Squared reprojection error of one observation; +inf when behind the camera.
+  double SquaredReprojectionError(const TrackElement& element, const Eigen::Vector3d& xyz) const;
+
+  size_t NumObservations() const;
+  double MeanTrackLength() const;
+  // Updates Point3D::error of every point and returns the mean / RMS over all observations.
+  double UpdatePointErrors();
+  double RmsReprojectionError() const;
+  double MeanReprojectionError() const;
+
+  // Filters (return the number of observations removed). `image_ids` empty means all images.
+  size_t FilterObservationsWithLargeError(double max_error_px,
+                                          const std::vector<image_t>& image_ids = {});
+  size_t FilterPointsWithSmallTriangulationAngle(double min_angle_deg,
+                                                 const std::vector<image_t>& image_ids = {});
+
+ private:
+  std::map<camera_t, Camera> cameras_;
+  std::map<image_t, Image> images_;
+  std::map<point3D_t, Point3D> points3D_;
+  point3D_t next_point3D_id_ = 1;
+};
+
+}  // namespace varsfm

@@ -1,0 +1,78 @@
+#include "varsfm/scene/reconstruction.h"
+
+#include <gtest/gtest.h>
+
+#include "varsfm/synthetic/synthetic_scene.h"
+
+namespace varsfm {
+namespace {
+
+// A reconstruction holding a synthetic scene exactly: every observed point with its full track.
+Reconstruction FromSynthetic(const SyntheticScene& scene) {
+  Reconstruction rec;
+  std::map<int, std::vector<TrackElement>> tracks;
+  for (int i = 0; i < scene.NumImages(); ++i) {
+    rec.AddCamera(scene.cameras[i]);
+    Image image;
+    image.image_id = i + 1;
+    image.camera_id = scene.cameras[i].camera_id;
+    image.name = "image" + std::to_string(i);
+    image.cam_from_world = scene.poses[i];
+    image.registered = true;
+    for (const auto& obs : scene.observations[i]) {
+      tracks[obs.point_id].push_back({image.image_id, static_cast<point2D_t>(image.points2D.size())});
+      image.points2D.push_back({obs.pixel});
+    }
+    rec.AddImage(image);
+  }
+  for (const auto& [pid, track] : tracks)
+    if (track.size() >= 2) rec.AddPoint3D(scene.points[pid], track);
+  return rec;
+}
+
+TEST(Reconstruction, ExactSceneHasZeroErrorAndConsistentLinks) {
+  SyntheticOptions o;
+  o.num_images = 5;
+  o.num_points = 300;
+  const SyntheticScene scene = GenerateSyntheticScene(o);
+  Reconstruction rec = FromSynthetic(scene);
+  EXPECT_EQ(rec.NumRegisteredImages(), 5u);
+  EXPECT_GT(rec.points3D().size(), 200u);
+  EXPECT_LT(rec.RmsReprojectionError(), 1e-9);
+  EXPECT_GT(rec.MeanTrackLength(), 2.0);
+  for (const auto& [id, point] : rec.points3D())
+    for (const auto& el : point.track)
+      EXPECT_EQ(rec.image(el.image_id).points2D[el.point2D_idx].point3D_id, id);
+}
+
+TEST(Reconstruction, FilteringRemovesOnlyBadObservations) {
+  SyntheticOptions o;
+  o.num_images = 4;
+  o.num_points = 200;
+  Reconstruction rec = FromSynthetic(GenerateSyntheticScene(o));
+  const size_t before = rec.NumObservations();
+  // Corrupt one observation by 10 px.
+  const point3D_t id = rec.points3D().begin()->first;
+  const TrackElement el = rec.point3D(id).track.front();
+  rec.image(el.image_id).points2D[el.point2D_idx].xy += Eigen::Vector2d(10, 0);
+  EXPECT_EQ(rec.FilterObservationsWithLargeError(4.0), 1u);
+  EXPECT_FALSE(rec.image(el.image_id).points2D[el.point2D_idx].HasPoint3D());
+  EXPECT_EQ(rec.NumObservations(), before - (rec.ExistsPoint3D(id) ? 1 : 2));
+  // Every ray of the orbit subtends > 1 degree, far fewer than 60.
+  EXPECT_EQ(rec.FilterPointsWithSmallTriangulationAngle(1.0), 0u);
+  EXPECT_GT(rec.FilterPointsWithSmallTriangulationAngle(60.0), 0u);
+}
+
+TEST(Reconstruction, DeRegisterRemovesObservationsAndShortTracks) {
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 100;
+  Reconstruction rec = FromSynthetic(GenerateSyntheticScene(o));
+  rec.DeRegisterImage(1);
+  rec.DeRegisterImage(2);
+  EXPECT_EQ(rec.points3D().size(), 0u);  // one image left: no track of length 2
+  EXPECT_EQ(rec.NumRegisteredImages(), 1u);
+}
+
+}  // namespace
+}  // namespace varsfm
