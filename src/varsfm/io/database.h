@@ -108,8 +108,10 @@ class Database {
   size_t NumVerifiedPairs() const;
 
  private:
+  struct Statements;  // the prepared statements, made once when the database is opened
   void Exec(const char* sql) const;
   sqlite3* db_ = nullptr;
+  std::unique_ptr<Statements> statements_;
 };
 
 }  // namespace varsfm
