@@ -7,6 +7,12 @@
 #include <exception>
 #include <string>
 
+#include "varsfm/pipeline/evaluate.h"
+#include "varsfm/pipeline/demo.h"
+#include "varsfm/pipeline/extract.h"
+#include "varsfm/pipeline/map.h"
+#include "varsfm/pipeline/match.h"
+#include "varsfm/pipeline/run.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -15,6 +21,35 @@ namespace {
 void SetLogLevel(const std::string& level) {
   spdlog::set_level(spdlog::level::from_str(level));
   spdlog::set_pattern("[%H:%M:%S] %^%l%$ %v");
+}
+
+// Mapper options shared by `map` and `run`.
+void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
+  auto& m = map->mapper;
+  cmd->add_option("--local-ba-images", m.local_ba_images, "m0: images in each local BA")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--global-ba-images", m.first_global_ba_images,
+                  "M0: images registered before the first global BA (0: after every image)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--global-ba-growth", m.global_ba_growth,
+                  "further global BA when the model grew by this factor (0: never)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--min-correspondences", m.min_correspondences, "n0: 2D-3D needed (>= 6)")
+      ->capture_default_str()->check(CLI::Range(6, 1000000));
+  cmd->add_flag("--refine-principal-point", m.refine_principal_point,
+                "estimate the principal point per image (default: held at the centre)");
+  cmd->add_flag("--refine-aspect", m.refine_aspect, "estimate the aspect ratio per image");
+  cmd->add_flag("--refine-skew", m.refine_skew, "estimate the skew per image");
+  cmd->add_flag("!--no-distortion", m.refine_distortion, "hold k1 = k2 = 0");
+  cmd->add_flag("--sequential-order", m.sequential_order,
+                "register images in sequence order (video, numbered photos)");
+  cmd->add_option("--seed", m.seed, "random seed")->capture_default_str();
+  cmd->add_option("--threads", m.num_threads, "threads (0: all cores)")->capture_default_str();
+  static const std::map<std::string, varsfm::IntrinsicsSharing> kSharing = {
+      {"per-image", varsfm::IntrinsicsSharing::kPerImage},
+      {"shared", varsfm::IntrinsicsSharing::kShared}};
+  cmd->add_option("--intrinsics", map->sharing, "per-image (default) | shared")
+      ->transform(CLI::CheckedTransformer(kSharing, CLI::ignore_case));
 }
 
 }  // namespace
@@ -28,6 +63,103 @@ int main(int argc, char** argv) {
                                        "trace|debug|info|warn|error|off (before the subcommand)");
 
   // ---- Subcommands: each registers its options and a callback into the pipeline. ----
+
+  // extract: photos or a video's keyframes -> cameras, images and SIFT features.
+  varsfm::ExtractOptions extract;
+  {
+    CLI::App* cmd = app.add_subcommand("extract", "SIFT features of images or video keyframes");
+    cmd->add_option("--workspace", extract.workspace, "workspace database (created if absent)")
+        ->required();
+    CLI::Option_group* input = cmd->add_option_group("input", "exactly one of --images, --video");
+    input->add_option("--images", extract.image_dir, "image folder (searched recursively)");
+    input->add_option("--video", extract.video, "video; keyframes go to <workspace>_frames/");
+    input->require_option(1);
+    cmd->add_option("--max-features", extract.sift.max_features, "strongest features kept")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--max-image-size", extract.sift.max_image_size,
+                    "larger images are downscaled for extraction")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--max-frames", extract.keyframes.max_frames, "video keyframe cap (0: none)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", extract.threads, "worker threads (0: all cores)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->callback([&extract] { varsfm::RunExtraction(extract); });
+  }
+
+  // match: features -> raw matches and verified two-view geometries of image pairs.
+  varsfm::MatchOptions match;
+  {
+    CLI::App* cmd = app.add_subcommand("match", "match features of image pairs and verify them");
+    cmd->add_option("--workspace", match.workspace, "workspace database")->required();
+    cmd->add_option("--strategy", match.strategy, "exhaustive | sequential")
+        ->capture_default_str()->check(CLI::IsMember({"exhaustive", "sequential"}));
+    cmd->add_option("--overlap", match.overlap, "sequential: each image with its next N")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--ratio", match.matching.max_ratio, "Lowe's ratio test on descriptor angles")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--max-error", match.verification.max_error, "RANSAC inlier threshold (px)")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--min-inliers", match.verification.min_num_inliers,
+                    "fewer inliers: the pair is not verified")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--threads", match.num_threads, "worker threads (0: all cores)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seed", match.seed, "random seed")->capture_default_str();
+    cmd->callback([&match] { varsfm::RunMatching(match); });
+  }
+
+  // map: features and verified matches -> sparse model (Algorithm 1) and its exports.
+  varsfm::MapOptions map;
+  {
+    CLI::App* cmd = app.add_subcommand("map", "incremental reconstruction from a workspace");
+    cmd->add_option("--workspace", map.workspace, "workspace database")->required();
+    cmd->add_option("--output", map.output, "output folder")->required();
+    cmd->add_option("--images", map.image_dir, "image folder (for point colours)");
+    AddMapperOptions(cmd, &map);
+    cmd->callback([&map] { varsfm::RunMapping(map); });
+  }
+
+  // run: photos or a video -> model, every stage with its defaults.
+  varsfm::RunOptions run;
+  {
+    CLI::App* cmd = app.add_subcommand("run", "the whole chain: extract, match, map");
+    cmd->add_option("input", run.input, "folder of photos, or a video file")->required();
+    cmd->add_option("output", run.output, "output folder")->required();
+    cmd->add_option("--matching", run.matching, "auto|exhaustive|sequential")
+        ->capture_default_str()->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
+    cmd->add_option("--max-features", run.extract.sift.max_features, "strongest features kept")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    AddMapperOptions(cmd, &run.map);
+    cmd->callback([&run] { varsfm::RunAll(run); });
+  }
+
+  // evaluate: a COLMAP model against Strecha ground-truth cameras.
+  varsfm::EvaluateCommandOptions evaluate;
+  {
+    CLI::App* cmd = app.add_subcommand("evaluate", "accuracy of a model against ground truth");
+    cmd->add_option("model", evaluate.model_dir, "COLMAP model folder (text or binary)")
+        ->required();
+    cmd->add_option("--gt", evaluate.gt_dir, "folder of Strecha NAME.camera files")->required();
+    cmd->add_option("--json", evaluate.json_path, "also write the report as JSON");
+    cmd->add_option("--inlier-threshold", evaluate.evaluation.alignment.inlier_threshold,
+                    "robust alignment: centres farther than this (GT units) are outliers "
+                    "(0: least squares over all)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->callback([&evaluate] {
+      std::fputs(varsfm::FormatReport(varsfm::RunEvaluation(evaluate)).c_str(), stdout);
+    });
+  }
+
+  // demo: a rendered synthetic scene with a zooming camera, reconstructed and evaluated.
+  varsfm::DemoOptions demo;
+  {
+    CLI::App* cmd = app.add_subcommand("demo", "reconstruct a built-in synthetic scene and score it");
+    cmd->add_option("--output", demo.output, "output folder")->required();
+    cmd->add_option("--images", demo.scene.num_images, "images to render")
+        ->capture_default_str()->check(CLI::Range(3, 200));
+    cmd->add_option("--seed", demo.scene.seed, "scene seed")->capture_default_str();
+    cmd->callback([&demo] { varsfm::RunDemo(demo); });
+  }
 
   try {
     app.parse(argc, argv);

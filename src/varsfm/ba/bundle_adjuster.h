@@ -1,0 +1,98 @@
+#pragma once
+// Bundle adjustment (El Hazzat et al., eqs. 34-36): minimises the sum of robustified squared
+// reprojection errors over the intrinsics of every image's camera (f, aspect, skew, principal
+// point, k1, k2 - each can be held), the poses and the 3D points, with Ceres.
+//
+// Parameter sharing: images pointing at the same camera_id share one 7-parameter block, so
+// "one camera for all images" and "one camera per image" (varying intrinsics) are the same code.
+//
+// Gauge (the 7-dof similarity ambiguity of a projective-metric reconstruction): when fewer than
+// two images of the problem have a constant pose, RunBundleAdjustment fixes it itself:
+//  - no constant pose: the pose of the lowest-id variable image is held (6 dof);
+//  - then, with one constant pose C0 (given or just chosen), the scale is held by fixing the
+//    translation coordinate k of the next variable image that changes most under a scaling
+//    about C0 (argmax_k |(R2 (C2 - C0))_k|, which is the largest |t2_k| when image 0 is at the
+//    origin, as COLMAP does). Two or more constant poses fix the gauge on their own.
+#include <set>
+#include <string>
+#include <vector>
+
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/util/types.h"
+
+namespace varsfm {
+
+// Which of the camera parameters [f, aspect, skew, u0, v0, k1, k2] are refined; the others are
+// held through a ceres::SubsetManifold on the camera block (constant block when all are held).
+struct IntrinsicsOptions {
+  bool refine_focal = true;
+  bool refine_aspect = false;
+  bool refine_skew = false;
+  bool refine_principal_point = false;
+  bool refine_k1 = true;
+  bool refine_k2 = true;
+};
+
+struct BundleAdjustmentOptions {
+  enum class Loss { kTrivial, kHuber, kCauchy };
+  // How the normal equations are solved; kAuto chooses by problem size (see ChooseSolver in
+  // bundle_adjuster.cc for the measurements behind the choice).
+  enum class Solver {
+    kAuto,
+    kDenseSchur,
+    kSparseSchurSuiteSparse,
+    kSparseSchurEigen,
+    kIterativeSchur,
+  };
+
+  // Cauchy by default: on inlier-only data it reaches the same noise floor and focal accuracy
+  // as the plain squared loss, and with 5 % gross outliers it keeps the focal error near the
+  // clean value where the squared loss is pulled off (tests/ba/bundle_adjuster_test.cc).
+  Loss loss = Loss::kCauchy;
+  double loss_scale_px = 1.0;  // residual (px) where the robust loss starts to flatten
+  int max_iterations = 100;
+  double function_tolerance = 1e-6;
+  double gradient_tolerance = 1e-10;
+  double parameter_tolerance = 1e-8;
+  int num_threads = 0;  // 0: std::thread::hardware_concurrency()
+  Solver solver = Solver::kAuto;
+  IntrinsicsOptions intrinsics;
+  bool verbose = false;  // Ceres progress to stdout
+};
+
+// What enters the problem. A 3D point enters when a variable-pose image observes it; then every
+// observation of it by an image of the config (variable or constant pose) is a residual. Points
+// with fewer than two residuals are left out (a single ray does not fix a point).
+struct BundleAdjustmentConfig {
+  std::set<image_t> variable_pose_images;
+  std::set<image_t> constant_pose_images;
+  std::set<camera_t> constant_cameras;
+  std::set<point3D_t> constant_points;
+
+  // Every registered image with a variable pose; the gauge is fixed by RunBundleAdjustment.
+  static BundleAdjustmentConfig Global(const Reconstruction& reconstruction);
+  // The given images' poses and intrinsics free, every point they observe free, and every other
+  // registered image that observes those points included with constant pose and constant
+  // camera. A camera shared with a variable image stays free (sharing wins over holding).
+  static BundleAdjustmentConfig Local(const Reconstruction& reconstruction,
+                                      const std::vector<image_t>& variable_images);
+};
+
+struct BundleAdjustmentSummary {
+  bool success = false;  // Ceres returned a usable solution (converged or hit an iteration limit)
+  int iterations = 0;
+  double initial_rms_px = 0.0;  // plain (not robustified) RMS over the problem's residuals
+  double final_rms_px = 0.0;
+  int num_residuals = 0;  // observations in the problem (each gives two scalar residuals)
+  double seconds = 0.0;
+  std::string solver;  // e.g. "SPARSE_SCHUR (SUITE_SPARSE)"
+  std::string report;  // Ceres' one-line report
+};
+
+// Optimises `reconstruction` in place. Returns success = false (and leaves the reconstruction
+// untouched) when the config yields no residual.
+BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& options,
+                                            const BundleAdjustmentConfig& config,
+                                            Reconstruction* reconstruction);
+
+}  // namespace varsfm

@@ -1,0 +1,65 @@
+#pragma once
+// Robust two-view estimation: LO-RANSAC (ransac.h) around the minimal and linear solvers.
+//   F: seven-point minimal, normalised eight-point for local optimisation; residual = Sampson
+//      distance in pixels.
+//   H: four-point normalised DLT; residual = one-sided transfer error |x2 - H x1| in pixels
+//      (as COLMAP: cheaper than the symmetric error, and the match direction is fixed).
+//   E: five-point minimal on normalised coordinates, eight-point + projection onto the
+//      essential manifold for local optimisation; residual = Sampson distance in normalised
+//      units (max_error in normalised units, e.g. Camera::ImageToNormalizedThreshold).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsfm/estimators/ransac.h"
+
+namespace varsfm {
+
+// Estimator adaptors for Ransac<> (they keep references to the data).
+struct FundamentalEstimator {
+  using Model = Eigen::Matrix3d;
+  static constexpr int kMinSampleSize = 7;
+  const std::vector<Eigen::Vector2d>& x1;
+  const std::vector<Eigen::Vector2d>& x2;
+  size_t NumData() const { return x1.size(); }
+  void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  double SquaredResidual(const Model& F, size_t i) const;
+};
+
+struct HomographyEstimator {
+  using Model = Eigen::Matrix3d;
+  static constexpr int kMinSampleSize = 4;
+  const std::vector<Eigen::Vector2d>& x1;
+  const std::vector<Eigen::Vector2d>& x2;
+  size_t NumData() const { return x1.size(); }
+  void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  double SquaredResidual(const Model& H, size_t i) const;
+};
+
+struct EssentialEstimator {
+  using Model = Eigen::Matrix3d;
+  static constexpr int kMinSampleSize = 5;
+  const std::vector<Eigen::Vector2d>& x1;  // normalised coordinates
+  const std::vector<Eigen::Vector2d>& x2;
+  size_t NumData() const { return x1.size(); }
+  void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  double SquaredResidual(const Model& E, size_t i) const;
+};
+
+RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
+                                                        const std::vector<Eigen::Vector2d>& x2,
+                                                        const RansacOptions& options);
+
+RansacReport<Eigen::Matrix3d> EstimateHomography(const std::vector<Eigen::Vector2d>& x1,
+                                                 const std::vector<Eigen::Vector2d>& x2,
+                                                 const RansacOptions& options);
+
+// x1, x2 normalised image coordinates; options.max_error in normalised units.
+RansacReport<Eigen::Matrix3d> EstimateEssentialMatrix(const std::vector<Eigen::Vector2d>& x1,
+                                                      const std::vector<Eigen::Vector2d>& x2,
+                                                      const RansacOptions& options);
+
+}  // namespace varsfm

@@ -1,0 +1,78 @@
+#include "varsfm/feature/sift.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "varsfm/feature/rootsift.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+
+ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
+  if (gray.empty() || gray.type() != CV_8UC1) Fail("SIFT expects a non-empty 8-bit grey image");
+  if (options.max_features <= 0 || options.max_image_size <= 0) {
+    Fail("SIFT options: max features and max image size must be positive");
+  }
+
+  cv::Mat input = gray;
+  const int max_side = std::max(gray.cols, gray.rows);
+  if (max_side > options.max_image_size) {
+    const double scale = static_cast<double>(options.max_image_size) / max_side;
+    cv::resize(gray, input, cv::Size(), scale, scale, cv::INTER_AREA);
+  }
+  // Per-axis factors: rounding the resized size makes them differ slightly.
+  const float sx = static_cast<float>(gray.cols) / input.cols;
+  const float sy = static_cast<float>(gray.rows) / input.rows;
+
+  // nfeatures makes OpenCV keep the strongest keypoints by response before computing
+  // descriptors, so the cap costs no descriptor work.
+  cv::Ptr<cv::SIFT> sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold,
+                                            options.edge_threshold, 1.6);
+  std::vector<cv::KeyPoint> cv_keypoints;
+  cv::Mat cv_descriptors;
+  sift->detectAndCompute(input, cv::noArray(), cv_keypoints, cv_descriptors);
+
+  // Strongest first, ties broken by position, orientation and size: the order (and which
+  // keypoints a cap keeps) then does not depend on OpenCV's internal order, which its own cap
+  // (retainBest, an nth_element that also keeps ties at the cut) shuffles.
+  std::vector<int> order(cv_keypoints.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const cv::KeyPoint& ka = cv_keypoints[a];
+    const cv::KeyPoint& kb = cv_keypoints[b];
+    return std::tie(kb.response, ka.pt.y, ka.pt.x, ka.angle, ka.size, a) <
+           std::tie(ka.response, kb.pt.y, kb.pt.x, kb.angle, kb.size, b);
+  });
+  if (order.size() > static_cast<size_t>(options.max_features)) order.resize(options.max_features);
+
+  ImageFeatures features;
+  features.keypoints.reserve(order.size());
+  cv::Mat kept(static_cast<int>(order.size()), cv_descriptors.cols, CV_32F);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const cv::KeyPoint& kp = cv_keypoints[order[i]];
+    // OpenCV puts pixel centres at integers; varsfm at +0.5 (feature/types.h). OpenCV's SIFT
+    // also reports every keypoint 0.25 px too far right and down: it doubles the image
+    // (first octave -1) with a resize that maps upsampled pixel j to input pixel j/2 - 0.25,
+    // then divides coordinates by 2 (measured: a disc centred at (100, 150) comes out at
+    // (100.26, 150.26)). Scaling the corrected corner-based coordinate maps the downscaled
+    // image exactly onto the original.
+    constexpr float kShift = 0.5f - 0.25f;
+    const float x = (kp.pt.x + kShift) * sx;
+    const float y = (kp.pt.y + kShift) * sy;
+    // KeyPoint::size is the diameter (2 sigma) of the region; COLMAP stores sigma.
+    const float scale = 0.5f * kp.size * 0.5f * (sx + sy);
+    const float orientation = kp.angle * static_cast<float>(CV_PI / 180.0);
+    features.keypoints.emplace_back(x, y, scale, orientation);
+    cv_descriptors.row(order[i]).copyTo(kept.row(static_cast<int>(i)));
+  }
+  features.descriptors = RootSiftDescriptors(kept);
+  if (features.descriptors.rows() == 0) features.descriptors.resize(0, 128);
+  return features;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,58 @@
+#include "varsfm/geometry/fundamental.h"
+
+#include <cmath>
+
+#include <Eigen/LU>
+#include <Eigen/SVD>
+
+namespace varsfm {
+
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+void Epipoles(const Eigen::Matrix3d& F, Eigen::Vector3d* e1, Eigen::Vector3d* e2) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  if (e1 != nullptr) *e1 = svd.matrixV().col(2);
+  if (e2 != nullptr) *e2 = svd.matrixU().col(2);
+}
+
+Eigen::Vector4d ProjectionCenter(const Matrix34d& P) {
+  Eigen::Vector4d C;
+  for (int i = 0; i < 4; ++i) {
+    Eigen::Matrix3d minor;
+    for (int c = 0, k = 0; c < 4; ++c) {
+      if (c != i) minor.col(k++) = P.col(c);
+    }
+    C[i] = ((i % 2 == 0) ? 1.0 : -1.0) * minor.determinant();
+  }
+  return C;
+}
+
+Eigen::Matrix3d FundamentalFromProjections(const Matrix34d& P1, const Matrix34d& P2) {
+  const Eigen::Vector3d e2 = P2 * ProjectionCenter(P1);
+  // P1^+ = P1^T (P1 P1^T)^-1, the right pseudo-inverse of a full-rank 3x4 matrix.
+  const Eigen::Matrix<double, 4, 3> P1_pinv = P1.transpose() * (P1 * P1.transpose()).inverse();
+  const Eigen::Matrix3d F = CrossProductMatrix(e2) * P2 * P1_pinv;
+  return F / F.norm();
+}
+
+Eigen::Matrix3d EssentialFromPose(const Rigid3d& cam2_from_cam1) {
+  return CrossProductMatrix(cam2_from_cam1.translation) * cam2_from_cam1.R();
+}
+
+Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K1, const Eigen::Matrix3d& K2,
+                                    const Rigid3d& cam2_from_cam1) {
+  const Eigen::Matrix3d F =
+      K2.inverse().transpose() * EssentialFromPose(cam2_from_cam1) * K1.inverse();
+  return F / F.norm();
+}
+
+double SampsonError(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1,
+                    const Eigen::Vector2d& x2) {
+  return std::sqrt(SampsonErrorSquared(F, x1, x2));
+}
+
+}  // namespace varsfm

@@ -1,0 +1,47 @@
+#pragma once
+// Fundamental-matrix geometry (Hartley & Zisserman, chapter 9): x2^T F x1 = 0 for pixels
+// x1 in image 1 and x2 in image 2.
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "varsfm/geometry/rigid3.h"
+#include "varsfm/util/types.h"
+
+namespace varsfm {
+
+// The skew-symmetric matrix [v]_x with [v]_x w = v x w.
+Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v);
+
+// Epipoles as unit homogeneous vectors: F e1 = 0 (in image 1), F^T e2 = 0 (in image 2).
+void Epipoles(const Eigen::Matrix3d& F, Eigen::Vector3d* e1, Eigen::Vector3d* e2);
+
+// The camera centre C of P (P C = 0) as a homogeneous 4-vector, by cofactor expansion
+// (H&Z section 6.2.4: C = (det[p2,p3,p4], -det[p1,p3,p4], det[p1,p2,p4], -det[p1,p2,p3])).
+Eigen::Vector4d ProjectionCenter(const Matrix34d& P);
+
+// F = [e2]_x P2 P1^+ with e2 = P2 C1 (H&Z eq. 9.1). Normalised to unit Frobenius norm.
+Eigen::Matrix3d FundamentalFromProjections(const Matrix34d& P1, const Matrix34d& P2);
+
+// E = [t]_x R for x_cam2 = R x_cam1 + t (H&Z eq. 9.8).
+Eigen::Matrix3d EssentialFromPose(const Rigid3d& cam2_from_cam1);
+
+// F = K2^-T [t]_x R K1^-1 (H&Z eq. 9.12). Normalised to unit Frobenius norm.
+Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K1, const Eigen::Matrix3d& K2,
+                                    const Rigid3d& cam2_from_cam1);
+
+// The squared Sampson distance (H&Z eq. 11.9), the first-order approximation of the squared
+// geometric (reprojection) error, in squared pixels for pixel inputs.
+inline double SampsonErrorSquared(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1,
+                                  const Eigen::Vector2d& x2) {
+  const Eigen::Vector3d Fx1 = F * x1.homogeneous();
+  const Eigen::Vector3d Ftx2 = F.transpose() * x2.homogeneous();
+  const double e = x2.homogeneous().dot(Fx1);
+  const double d = Fx1.head<2>().squaredNorm() + Ftx2.head<2>().squaredNorm();
+  return d > 0 ? e * e / d : (e == 0 ? 0.0 : std::numeric_limits<double>::infinity());
+}
+
+// The Sampson distance (pixels for pixel inputs).
+double SampsonError(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1, const Eigen::Vector2d& x2);
+
+}  // namespace varsfm

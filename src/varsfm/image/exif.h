@@ -1,0 +1,21 @@
+#pragma once
+// The EXIF tags varsfm uses: the focal length, turned into pixels so it can serve as a prior
+// for the per-image intrinsics (never required: cameras are self-calibrated).
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+namespace varsfm {
+
+// The focal length in pixels of an image of `width` x `height` pixels (as displayed, after the
+// EXIF orientation) from the EXIF block of `data` (a whole JPEG file, or raw EXIF data), or
+// nothing when the tags are absent or implausible. Uses, in order:
+//  1. FocalLengthIn35mmFilm: the focal length a 36x24 mm frame with the same field of view
+//     would have; the equivalence is defined on the diagonal (CIPA DC-008), so
+//     f_px = f35 * diagonal_px / 43.27 mm.
+//  2. FocalLength (mm) * FocalPlaneXResolution (pixels per unit of FocalPlaneResolutionUnit),
+//     scaled by the ratio of the image size to PixelX/YDimension when the image was resized.
+std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, int width,
+                                            int height);
+
+}  // namespace varsfm

@@ -1,0 +1,17 @@
+#pragma once
+// Listing the photographs of an image folder.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace varsfm {
+
+// True for the extensions varsfm reads (JPEG, PNG, TIFF, BMP), case-insensitive.
+bool HasImageExtension(const std::filesystem::path& path);
+
+// Every image file under `dir` (recursively), as '/'-separated names relative to `dir`, sorted
+// by name so that image ids follow the names as in COLMAP. Files with other extensions are
+// ignored. Throws varsfm::Error when `dir` is not a readable folder.
+std::vector<std::string> ListImages(const std::filesystem::path& dir);
+
+}  // namespace varsfm

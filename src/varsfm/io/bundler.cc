@@ -1,0 +1,99 @@
+#include "varsfm/io/bundler.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+void WarnIfNotBundlerCamera(const Camera& camera) {
+  const auto& p = camera.params;
+  const double du = p[Camera::kU0] - 0.5 * camera.width, dv = p[Camera::kV0] - 0.5 * camera.height;
+  if (p[Camera::kAspect] != 1.0 || p[Camera::kSkew] != 0.0 || std::hypot(du, dv) > 0.5)
+    warn(
+        "camera {}: aspect {:.4f}, skew {:.3g}, principal point offset ({:.1f}, {:.1f}) px are "
+        "not representable in Bundler's format and are dropped",
+        camera.camera_id, p[Camera::kAspect], p[Camera::kSkew], du, dv);
+}
+
+void WriteList(const Reconstruction& rec, const fs::path& file) {
+  std::ofstream out(file);
+  if (!out) Fail("{}: cannot open for writing", file.string());
+  for (const auto& [id, image] : rec.images()) out << image.name << '\n';
+  out.close();
+  if (!out) Fail("{}: write failed", file.string());
+}
+
+void WriteBundle(const Reconstruction& rec, const fs::path& file) {
+  std::map<image_t, int> index;  // image id -> Bundler camera index (0-based, list.txt order)
+  for (const auto& [id, image] : rec.images()) index.emplace(id, static_cast<int>(index.size()));
+
+  std::ofstream out(file);
+  if (!out) Fail("{}: cannot open for writing", file.string());
+  out << "# Bundle file v0.3\n" << fmt::format("{} {}\n", index.size(), rec.points3D().size());
+  const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  for (const auto& [id, image] : rec.images()) {
+    if (!image.registered) {  // Bundler's marker of a camera it did not estimate
+      out << "0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n";
+      continue;
+    }
+    const Camera& camera = rec.camera(image.camera_id);
+    WarnIfNotBundlerCamera(camera);
+    const Eigen::Matrix3d R = D * image.cam_from_world.R();
+    const Eigen::Vector3d t = D * image.cam_from_world.translation;
+    out << fmt::format("{} {} {}\n", camera.focal(), camera.params[Camera::kK1],
+                       camera.params[Camera::kK2]);
+    for (int r = 0; r < 3; ++r) out << fmt::format("{} {} {}\n", R(r, 0), R(r, 1), R(r, 2));
+    out << fmt::format("{} {} {}\n", t.x(), t.y(), t.z());
+  }
+  for (const auto& [id, point] : rec.points3D()) {
+    out << fmt::format("{} {} {}\n{} {} {}\n{}", point.xyz.x(), point.xyz.y(), point.xyz.z(),
+                       point.color[0], point.color[1], point.color[2], point.track.size());
+    for (const TrackElement& el : point.track) {
+      const Image& image = rec.image(el.image_id);
+      const Camera& camera = rec.camera(image.camera_id);
+      const Eigen::Vector2d& xy = image.points2D.at(el.point2D_idx).xy;
+      out << fmt::format(" {} {} {} {}", index.at(el.image_id), el.point2D_idx,
+                         xy.x() - 0.5 * camera.width, 0.5 * camera.height - xy.y());
+    }
+    out << '\n';
+  }
+  out.close();
+  if (!out) Fail("{}: write failed", file.string());
+}
+
+}  // namespace
+
+void WriteBundler(const Reconstruction& rec, const fs::path& bundle_file,
+                  const fs::path& list_file) {
+  auto temp_of = [](const fs::path& f) {
+    return f.parent_path() / fmt::format(".{}.tmp-{}", f.filename().string(), ::getpid());
+  };
+  const fs::path bundle_tmp = temp_of(bundle_file), list_tmp = temp_of(list_file);
+  std::error_code ec;
+  try {
+    WriteBundle(rec, bundle_tmp);
+    WriteList(rec, list_tmp);
+    fs::rename(bundle_tmp, bundle_file);
+    fs::rename(list_tmp, list_file);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove(bundle_tmp, ec);
+    fs::remove(list_tmp, ec);
+    Fail("{}: cannot write: {}", e.path1().string(), e.code().message());
+  } catch (...) {
+    fs::remove(bundle_tmp, ec);
+    fs::remove(list_tmp, ec);
+    throw;
+  }
+}
+
+}  // namespace varsfm

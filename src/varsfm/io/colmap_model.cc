@@ -1,0 +1,507 @@
+#include "varsfm/io/colmap_model.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> ColmapModelFileNames(bool binary) {
+  if (binary) return {"cameras.bin", "images.bin", "points3D.bin"};
+  return {"cameras.txt", "images.txt", "points3D.txt"};
+}
+
+// Parameter count of the COLMAP models varsfm can represent; 0 for the others (fisheye, FOV,
+// thin prism), whose parameter blocks cannot be skipped without knowing their sizes.
+size_t ColmapNumParams(int model_id) {
+  switch (model_id) {
+    case kColmapSimplePinhole:
+      return 3;
+    case kColmapPinhole:
+    case kColmapSimpleRadial:
+      return 4;
+    case kColmapRadial:
+      return 5;
+    case kColmapOpenCV:
+      return 8;
+    case kColmapFullOpenCV:
+      return 12;
+    default:
+      return 0;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Binary primitives. COLMAP's files are little-endian whatever the host.
+
+template <typename T>
+void Put(std::ostream& out, T value) {
+  if constexpr (std::endian::native == std::endian::big) {
+    auto* bytes = reinterpret_cast<char*>(&value);
+    std::reverse(bytes, bytes + sizeof(T));
+  }
+  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+template <typename T>
+T Get(std::istream& in, const fs::path& file) {
+  T value;
+  if (!in.read(reinterpret_cast<char*>(&value), sizeof(T)))
+    Fail("{}: truncated binary COLMAP file", file.string());
+  if constexpr (std::endian::native == std::endian::big) {
+    auto* bytes = reinterpret_cast<char*>(&value);
+    std::reverse(bytes, bytes + sizeof(T));
+  }
+  return value;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing.
+
+struct CameraRecord {
+  int model_id;
+  std::vector<double> params;
+};
+
+CameraRecord ToRecord(const Camera& camera, int force_model_id) {
+  const int model_id = force_model_id >= 0 ? force_model_id : SmallestColmapModel(camera);
+  CameraRecord record{model_id, ToColmapParams(camera, model_id)};
+  if (force_model_id >= 0) {
+    // A forced model may lack a parameter the camera uses: say so instead of silently losing it.
+    const Camera back = CameraFromColmap(model_id, record.params, camera.width, camera.height);
+    for (int p = 0; p < Camera::kNumParams; ++p)
+      if (p != Camera::kSkew && back.params[p] != camera.params[p]) {
+        warn("camera {}: COLMAP model {} cannot hold all its parameters; they are truncated",
+             camera.camera_id, ColmapModelName(model_id));
+        break;
+      }
+  }
+  return record;
+}
+
+std::vector<const Image*> RegisteredImages(const Reconstruction& rec) {
+  std::vector<const Image*> images;
+  for (const auto& [id, image] : rec.images())
+    if (image.registered) images.push_back(&image);
+  return images;
+}
+
+std::ofstream OpenForWrite(const fs::path& file, bool binary) {
+  std::ofstream out(file, binary ? std::ios::binary : std::ios::out);
+  if (!out) Fail("{}: cannot open for writing", file.string());
+  return out;
+}
+
+void CloseChecked(std::ofstream& out, const fs::path& file) {
+  out.close();
+  if (!out) Fail("{}: write failed (disk full?)", file.string());
+}
+
+// Text values use fmt's shortest round-trip form, so reading back gives the same double.
+void WriteCamerasText(const Reconstruction& rec, const fs::path& file, int force_model_id) {
+  std::ofstream out = OpenForWrite(file, false);
+  out << "# Camera list with one line of data per camera:\n"
+      << "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+      << fmt::format("# Number of cameras: {}\n", rec.cameras().size());
+  for (const auto& [id, camera] : rec.cameras()) {
+    const CameraRecord r = ToRecord(camera, force_model_id);
+    out << fmt::format("{} {} {} {} {}\n", id, ColmapModelName(r.model_id), camera.width,
+                       camera.height, fmt::join(r.params, " "));
+  }
+  CloseChecked(out, file);
+}
+
+void WriteCamerasBinary(const Reconstruction& rec, const fs::path& file, int force_model_id) {
+  std::ofstream out = OpenForWrite(file, true);
+  Put<uint64_t>(out, rec.cameras().size());
+  for (const auto& [id, camera] : rec.cameras()) {
+    const CameraRecord r = ToRecord(camera, force_model_id);
+    Put<uint32_t>(out, id);
+    Put<int32_t>(out, r.model_id);
+    Put<uint64_t>(out, static_cast<uint64_t>(camera.width));
+    Put<uint64_t>(out, static_cast<uint64_t>(camera.height));
+    for (double p : r.params) Put<double>(out, p);
+  }
+  CloseChecked(out, file);
+}
+
+void WriteImagesText(const Reconstruction& rec, const fs::path& file) {
+  const auto images = RegisteredImages(rec);
+  size_t num_obs = 0;
+  for (const Image* image : images) num_obs += image->NumPoints3D();
+  std::ofstream out = OpenForWrite(file, false);
+  out << "# Image list with two lines of data per image:\n"
+      << "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+      << "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
+      << fmt::format("# Number of images: {}, mean observations per image: {}\n", images.size(),
+                     images.empty() ? 0.0 : static_cast<double>(num_obs) / images.size());
+  for (const Image* image : images) {
+    const Eigen::Quaterniond q = image->cam_from_world.rotation.normalized();
+    const Eigen::Vector3d& t = image->cam_from_world.translation;
+    out << fmt::format("{} {} {} {} {} {} {} {} {} {}\n", image->image_id, q.w(), q.x(), q.y(),
+                       q.z(), t.x(), t.y(), t.z(), image->camera_id, image->name);
+    std::string line;
+    for (const Point2D& p : image->points2D) {
+      if (!line.empty()) line += ' ';
+      if (p.HasPoint3D())
+        line += fmt::format("{} {} {}", p.xy.x(), p.xy.y(), p.point3D_id);
+      else
+        line += fmt::format("{} {} -1", p.xy.x(), p.xy.y());
+    }
+    out << line << '\n';
+  }
+  CloseChecked(out, file);
+}
+
+void WriteImagesBinary(const Reconstruction& rec, const fs::path& file) {
+  const auto images = RegisteredImages(rec);
+  std::ofstream out = OpenForWrite(file, true);
+  Put<uint64_t>(out, images.size());
+  for (const Image* image : images) {
+    const Eigen::Quaterniond q = image->cam_from_world.rotation.normalized();
+    const Eigen::Vector3d& t = image->cam_from_world.translation;
+    Put<uint32_t>(out, image->image_id);
+    for (double v : {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()}) Put<double>(out, v);
+    Put<uint32_t>(out, image->camera_id);
+    out.write(image->name.c_str(), static_cast<std::streamsize>(image->name.size() + 1));
+    Put<uint64_t>(out, image->points2D.size());
+    for (const Point2D& p : image->points2D) {
+      Put<double>(out, p.xy.x());
+      Put<double>(out, p.xy.y());
+      Put<uint64_t>(out, p.point3D_id);  // kInvalidPoint3DId is COLMAP's invalid id, 2^64 - 1
+    }
+  }
+  CloseChecked(out, file);
+}
+
+void WritePointsText(const Reconstruction& rec, const fs::path& file) {
+  std::ofstream out = OpenForWrite(file, false);
+  out << "# 3D point list with one line of data per point:\n"
+      << "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+      << fmt::format("# Number of points: {}, mean track length: {}\n", rec.points3D().size(),
+                     rec.MeanTrackLength());
+  for (const auto& [id, point] : rec.points3D()) {
+    out << fmt::format("{} {} {} {} {} {} {} {}", id, point.xyz.x(), point.xyz.y(), point.xyz.z(),
+                       point.color[0], point.color[1], point.color[2], point.error);
+    for (const TrackElement& el : point.track)
+      out << fmt::format(" {} {}", el.image_id, el.point2D_idx);
+    out << '\n';
+  }
+  CloseChecked(out, file);
+}
+
+void WritePointsBinary(const Reconstruction& rec, const fs::path& file) {
+  std::ofstream out = OpenForWrite(file, true);
+  Put<uint64_t>(out, rec.points3D().size());
+  for (const auto& [id, point] : rec.points3D()) {
+    Put<uint64_t>(out, id);
+    for (int k = 0; k < 3; ++k) Put<double>(out, point.xyz[k]);
+    for (int k = 0; k < 3; ++k) Put<uint8_t>(out, point.color[k]);
+    Put<double>(out, point.error);
+    Put<uint64_t>(out, point.track.size());
+    for (const TrackElement& el : point.track) {
+      Put<uint32_t>(out, el.image_id);
+      Put<uint32_t>(out, el.point2D_idx);
+    }
+  }
+  CloseChecked(out, file);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading. Points are read last and linked through their tracks (COLMAP's images file repeats
+// the links; the tracks are authoritative, and checked against the images).
+
+struct PendingPoint {
+  Eigen::Vector3d xyz;
+  Eigen::Matrix<uint8_t, 3, 1> color;
+  double error;
+  std::vector<TrackElement> track;
+};
+
+Camera CameraFromRecord(const fs::path& file, camera_t id, int model_id,
+                        const std::vector<double>& params, int width, int height) {
+  try {
+    Camera camera = CameraFromColmap(model_id, params, width, height);
+    camera.camera_id = id;
+    return camera;
+  } catch (const Error& e) {
+    Fail("{}: camera {}: {}", file.string(), id, e.what());
+  }
+}
+
+// Text lines without comments and blank lines, with their line numbers for messages.
+class TextLines {
+ public:
+  explicit TextLines(const fs::path& file) : file_(file), in_(file) {
+    if (!in_) Fail("{}: cannot open", file.string());
+  }
+  // Next data line; `keep_blank` returns blank lines too (the POINTS2D line may be empty).
+  bool Next(std::string* line, bool keep_blank = false) {
+    while (std::getline(in_, *line)) {
+      ++number_;
+      if (!line->empty() && line->back() == '\r') line->pop_back();
+      const auto first = line->find_first_not_of(" \t");
+      if (keep_blank && first == std::string::npos) return true;
+      if (first != std::string::npos && (*line)[first] != '#') return true;
+    }
+    return false;
+  }
+  [[noreturn]] void Bad(const std::string& what) const {
+    Fail("{}:{}: {}", file_.string(), number_, what);
+  }
+
+ private:
+  fs::path file_;
+  std::ifstream in_;
+  int number_ = 0;
+};
+
+void ReadCamerasText(const fs::path& file, Reconstruction* rec) {
+  TextLines lines(file);
+  std::string line;
+  while (lines.Next(&line)) {
+    std::istringstream s(line);
+    camera_t id;
+    std::string model;
+    int width, height;
+    if (!(s >> id >> model >> width >> height)) lines.Bad("expected CAMERA_ID MODEL WIDTH HEIGHT");
+    const int model_id = ColmapModelIdFromName(model);
+    if (model_id < 0) lines.Bad(fmt::format("camera model {} is not supported", model));
+    std::vector<double> params;
+    for (double v; s >> v;) params.push_back(v);
+    if (!s.eof()) lines.Bad("bad camera parameter");
+    rec->AddCamera(CameraFromRecord(file, id, model_id, params, width, height));
+  }
+}
+
+void ReadCamerasBinary(const fs::path& file, Reconstruction* rec) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail("{}: cannot open", file.string());
+  const uint64_t n = Get<uint64_t>(in, file);
+  for (uint64_t i = 0; i < n; ++i) {
+    const auto id = Get<uint32_t>(in, file);
+    const auto model_id = Get<int32_t>(in, file);
+    const auto width = Get<uint64_t>(in, file);
+    const auto height = Get<uint64_t>(in, file);
+    const size_t num_params = ColmapNumParams(model_id);
+    if (num_params == 0)
+      Fail("{}: camera {}: COLMAP camera model id {} is not supported", file.string(), id,
+           model_id);
+    std::vector<double> params(num_params);
+    for (double& p : params) p = Get<double>(in, file);
+    rec->AddCamera(CameraFromRecord(file, id, model_id, params, static_cast<int>(width),
+                                    static_cast<int>(height)));
+  }
+}
+
+void AddImageChecked(const fs::path& file, Image image, Reconstruction* rec) {
+  if (!rec->ExistsCamera(image.camera_id))
+    Fail("{}: image {} refers to camera {}, absent from the cameras file", file.string(),
+         image.image_id, image.camera_id);
+  if (rec->ExistsImage(image.image_id))
+    Fail("{}: image id {} appears twice", file.string(), image.image_id);
+  image.registered = true;
+  rec->AddImage(std::move(image));
+}
+
+Rigid3d PoseFrom(const double* v) {
+  return {Eigen::Quaterniond(v[0], v[1], v[2], v[3]).normalized(),
+          Eigen::Vector3d(v[4], v[5], v[6])};
+}
+
+void ReadImagesText(const fs::path& file, Reconstruction* rec) {
+  TextLines lines(file);
+  std::string line;
+  while (lines.Next(&line)) {
+    std::istringstream s(line);
+    Image image;
+    double v[7];
+    if (!(s >> image.image_id >> v[0] >> v[1] >> v[2] >> v[3] >> v[4] >> v[5] >> v[6] >>
+          image.camera_id))
+      lines.Bad("expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME");
+    // The name is the rest of the line: COLMAP allows spaces in it.
+    std::getline(s >> std::ws, image.name);
+    if (image.name.empty()) lines.Bad("image without a name");
+    image.cam_from_world = PoseFrom(v);
+    if (!lines.Next(&line, /*keep_blank=*/true)) lines.Bad("missing POINTS2D line");
+    std::istringstream p(line);
+    double x, y;
+    int64_t point3D_id;
+    while (p >> x >> y >> point3D_id) image.points2D.push_back({Eigen::Vector2d(x, y)});
+    if (!(p >> std::ws).eof()) lines.Bad("bad POINTS2D entry (expected X Y POINT3D_ID triples)");
+    AddImageChecked(file, std::move(image), rec);
+  }
+}
+
+void ReadImagesBinary(const fs::path& file, Reconstruction* rec) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail("{}: cannot open", file.string());
+  const uint64_t n = Get<uint64_t>(in, file);
+  for (uint64_t i = 0; i < n; ++i) {
+    Image image;
+    image.image_id = Get<uint32_t>(in, file);
+    double v[7];
+    for (double& x : v) x = Get<double>(in, file);
+    image.cam_from_world = PoseFrom(v);
+    image.camera_id = Get<uint32_t>(in, file);
+    if (!std::getline(in, image.name, '\0')) Fail("{}: truncated image name", file.string());
+    const uint64_t num_points = Get<uint64_t>(in, file);
+    image.points2D.resize(num_points);
+    for (Point2D& p : image.points2D) {
+      p.xy.x() = Get<double>(in, file);
+      p.xy.y() = Get<double>(in, file);
+      Get<uint64_t>(in, file);  // the link is rebuilt from the tracks
+    }
+    AddImageChecked(file, std::move(image), rec);
+  }
+}
+
+std::vector<PendingPoint> ReadPointsText(const fs::path& file) {
+  TextLines lines(file);
+  std::vector<PendingPoint> points;
+  std::string line;
+  while (lines.Next(&line)) {
+    std::istringstream s(line);
+    uint64_t id;
+    PendingPoint point;
+    int r, g, b;
+    if (!(s >> id >> point.xyz.x() >> point.xyz.y() >> point.xyz.z() >> r >> g >> b >> point.error))
+      lines.Bad("expected POINT3D_ID X Y Z R G B ERROR");
+    point.color = Eigen::Matrix<uint8_t, 3, 1>(r, g, b);
+    TrackElement el;
+    while (s >> el.image_id >> el.point2D_idx) point.track.push_back(el);
+    if (!(s.eof())) lines.Bad("bad track entry (expected IMAGE_ID POINT2D_IDX pairs)");
+    points.push_back(std::move(point));
+  }
+  return points;
+}
+
+std::vector<PendingPoint> ReadPointsBinary(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail("{}: cannot open", file.string());
+  const uint64_t n = Get<uint64_t>(in, file);
+  std::vector<PendingPoint> points(n);
+  for (PendingPoint& point : points) {
+    Get<uint64_t>(in, file);  // ids are reassigned by Reconstruction::AddPoint3D
+    for (int k = 0; k < 3; ++k) point.xyz[k] = Get<double>(in, file);
+    for (int k = 0; k < 3; ++k) point.color[k] = Get<uint8_t>(in, file);
+    point.error = Get<double>(in, file);
+    point.track.resize(Get<uint64_t>(in, file));
+    for (TrackElement& el : point.track) {
+      el.image_id = Get<uint32_t>(in, file);
+      el.point2D_idx = Get<uint32_t>(in, file);
+    }
+  }
+  return points;
+}
+
+void AddPoints(const fs::path& file, std::vector<PendingPoint> points, Reconstruction* rec) {
+  for (PendingPoint& point : points) {
+    for (const TrackElement& el : point.track)
+      if (!rec->ExistsImage(el.image_id) ||
+          el.point2D_idx >= rec->image(el.image_id).points2D.size())
+        Fail("{}: track element ({}, {}) refers to no 2D point of the images file", file.string(),
+             el.image_id, el.point2D_idx);
+    const point3D_t id = rec->AddPoint3D(point.xyz, std::move(point.track), point.color);
+    rec->point3D(id).error = point.error;
+  }
+}
+
+// Writes into `tmp`, then moves the files into `target` (see the header's atomicity promise).
+void WriteAll(const Reconstruction& rec, const fs::path& dir, const ColmapWriteOptions& options) {
+  const auto names = ColmapModelFileNames(options.binary);
+  if (options.binary) {
+    WriteCamerasBinary(rec, dir / names[0], options.force_model_id);
+    WriteImagesBinary(rec, dir / names[1]);
+    WritePointsBinary(rec, dir / names[2]);
+  } else {
+    WriteCamerasText(rec, dir / names[0], options.force_model_id);
+    WriteImagesText(rec, dir / names[1]);
+    WritePointsText(rec, dir / names[2]);
+  }
+}
+
+}  // namespace
+
+void WriteFilesAtomically(const fs::path& dir, const std::vector<std::string>& names,
+                          const std::function<void(const fs::path&)>& write) {
+  static std::atomic<int> counter{0};
+  try {
+    // A trailing slash gives an empty filename; normalise so the sibling name is right.
+    fs::path target = fs::absolute(dir).lexically_normal();
+    if (target.filename().empty()) target = target.parent_path();
+    fs::create_directories(target.parent_path());
+    const fs::path tmp =
+        target.parent_path() /
+        fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter++);
+    fs::remove_all(tmp);
+    fs::create_directory(tmp);
+    try {
+      write(tmp);
+      for (const auto& name : names)
+        if (!fs::is_regular_file(tmp / name)) Fail("{}: was not written", (dir / name).string());
+      if (!fs::exists(target)) {
+        fs::rename(tmp, target);  // the whole folder appears at once
+        return;
+      }
+      if (!fs::is_directory(target)) Fail("{}: exists and is not a folder", target.string());
+      // An existing folder may hold other files (another model format, logs): replace only
+      // ours, each by an atomic rename of a complete file.
+      for (const auto& name : names) fs::rename(tmp / name, target / name);
+      fs::remove_all(tmp);
+    } catch (...) {
+      std::error_code ec;
+      fs::remove_all(tmp, ec);
+      throw;
+    }
+  } catch (const fs::filesystem_error& e) {
+    Fail("{}: cannot write: {}", dir.string(), e.code().message());
+  }
+}
+
+void WriteColmapModel(const Reconstruction& rec, const fs::path& dir,
+                      const ColmapWriteOptions& options) {
+  WriteFilesAtomically(dir, ColmapModelFileNames(options.binary),
+                       [&](const fs::path& tmp) { WriteAll(rec, tmp, options); });
+}
+
+Reconstruction ReadColmapModel(const fs::path& dir) {
+  if (!fs::is_directory(dir)) Fail("{}: model folder does not exist", dir.string());
+  bool binary = true;
+  for (const auto& name : ColmapModelFileNames(true)) binary &= fs::is_regular_file(dir / name);
+  const auto names = ColmapModelFileNames(binary);
+  for (const auto& name : names)
+    if (!fs::is_regular_file(dir / name))
+      Fail("{}: no COLMAP model (missing {} or the .bin files)", dir.string(), name);
+  Reconstruction rec;
+  if (binary) {
+    ReadCamerasBinary(dir / names[0], &rec);
+    ReadImagesBinary(dir / names[1], &rec);
+    AddPoints(dir / names[2], ReadPointsBinary(dir / names[2]), &rec);
+  } else {
+    ReadCamerasText(dir / names[0], &rec);
+    ReadImagesText(dir / names[1], &rec);
+    AddPoints(dir / names[2], ReadPointsText(dir / names[2]), &rec);
+  }
+  debug("read COLMAP {} model {}: {} cameras, {} images, {} points", binary ? "binary" : "text",
+        dir.string(), rec.cameras().size(), rec.images().size(), rec.points3D().size());
+  return rec;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,45 @@
+#pragma once
+// Coloured point clouds as PLY (binary little-endian): vertex x y z (float or double),
+// optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsfm/scene/reconstruction.h"
+
+namespace varsfm {
+
+struct PointCloud {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> normals;              // empty, or one per point
+  std::vector<Eigen::Matrix<uint8_t, 3, 1>> colors;  // empty, or one per point
+
+  bool HasNormals() const { return !normals.empty(); }
+  bool HasColors() const { return !colors.empty(); }
+};
+
+struct PlyWriteOptions {
+  // float halves the file and is what viewers expect; double keeps georeferenced coordinates
+  // (large offsets) exact.
+  bool double_precision = false;
+};
+
+// The sparse model's 3D points with their colours (no normals), in point-id order.
+PointCloud SparsePointCloud(const Reconstruction& reconstruction);
+
+// Writes atomically (a temporary file beside `file`, then a rename). Throws varsfm::Error when
+// normals/colours do not match the point count or the file cannot be written.
+void WritePly(const std::filesystem::path& file, const PointCloud& cloud,
+              const PlyWriteOptions& options = {});
+
+// The sparse model's points (SparsePointCloud) written to `file`.
+void WritePly(const Reconstruction& reconstruction, const std::filesystem::path& file,
+              const PlyWriteOptions& options = {});
+
+// Reads the vertex element of an ascii or binary_little_endian PLY: x y z required, nx ny nz
+// and red green blue when present, any scalar property types. Throws varsfm::Error.
+PointCloud ReadPly(const std::filesystem::path& file);
+
+}  // namespace varsfm

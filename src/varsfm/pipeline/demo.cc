@@ -1,0 +1,33 @@
+#include "varsfm/pipeline/demo.h"
+
+#include <fstream>
+
+#include "varsfm/eval/ground_truth.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+
+DemoResult RunDemo(const DemoOptions& options) {
+  const auto image_dir = options.output / "images";
+  const auto gt_dir = options.output / "gt";
+  Timer timer;
+  if (!std::filesystem::exists(image_dir)) {
+    info("demo: rendering {} images of a synthetic scene (zoom x{:.1f}) into {}",
+         options.scene.num_images, options.scene.zoom, image_dir.string());
+    WriteRenderedScene(RenderSyntheticScene(options.scene), image_dir, gt_dir);
+    info("demo: rendered in {:.1f} s", timer.Seconds());
+  }
+  RunOptions run = options.run;
+  run.input = image_dir;
+  run.output = options.output;
+  DemoResult result;
+  result.run = RunAll(run);
+  result.evaluation =
+      EvaluateAgainstGroundTruth(result.run.map.reconstruction, ReadStrechaGroundTruth(gt_dir));
+  std::ofstream(options.output / "evaluation.json") << ToJson(result.evaluation).dump(2) << "\n";
+  fmt::print("{}", FormatReport(result.evaluation));
+  return result;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,237 @@
+#include "varsfm/pipeline/extract.h"
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/image/image_io.h"
+#include "varsfm/image/image_list.h"
+#include "varsfm/io/database.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/progress.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// COLMAP's default focal length when nothing is known (feature_extraction.cc).
+constexpr double kDefaultFocalFactor = 1.2;
+
+// Reads an image for extraction, or warns (one line naming the file) and returns nothing when
+// it is unreadable or too small to hold useful features.
+std::optional<Image> LoadUsableImage(const fs::path& path, int min_size) {
+  try {
+    Image image = ReadImage(path, ColorMode::kGray);
+    if (std::min(image.width(), image.height()) < min_size) {
+      warn("skipping {}: {}x{} pixels is too small (minimum {})", path.string(), image.width(),
+           image.height(), min_size);
+      return std::nullopt;
+    }
+    return image;
+  } catch (const Error& e) {
+    warn("skipping: {}", e.what());
+    return std::nullopt;
+  }
+}
+
+DbCamera DefaultCamera(const Image& image) {
+  DbCamera camera;
+  camera.model_id = kColmapSimpleRadial;
+  camera.width = image.width();
+  camera.height = image.height();
+  camera.has_prior_focal_length = image.exif_focal_px.has_value();
+  const double focal =
+      image.exif_focal_px.value_or(kDefaultFocalFactor * std::max(image.width(), image.height()));
+  // COLMAP's pixel convention puts the image centre at (w/2, h/2).
+  camera.params = {focal, image.width() / 2.0, image.height() / 2.0, 0.0};
+  return camera;
+}
+
+// What one image of the parallel stage hands to the writer.
+struct Extracted {
+  size_t index = 0;
+  bool usable = false;
+  DbCamera camera;
+  ImageFeatures features;
+};
+
+struct InputImages {
+  fs::path dir;
+  std::vector<std::string> names;
+};
+
+InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
+  const bool has_images = !options.image_dir.empty();
+  const bool has_video = !options.video.empty();
+  if (has_images == has_video) Fail("give exactly one of an image folder and a video");
+  InputImages input;
+  if (has_images) {
+    input.dir = options.image_dir;
+    input.names = ListImages(options.image_dir);
+    if (input.names.empty()) Fail("no image files in {}", options.image_dir.string());
+  } else {
+    input.dir = VideoFramesDir(options.workspace);
+    KeyframeSummary keyframes = ExtractKeyframes(options.video, input.dir, options.keyframes);
+    summary.video_frames = keyframes.frames_read;
+    summary.video_blurred = keyframes.frames_blurred;
+    info("video {}: {} frames, {} blurred, {} keyframes in {}", options.video.string(),
+         keyframes.frames_read, keyframes.frames_blurred, keyframes.names.size(),
+         input.dir.string());
+    if (keyframes.names.empty()) Fail("no sharp frame in video {}", options.video.string());
+    input.names = std::move(keyframes.names);
+  }
+  return input;
+}
+
+}  // namespace
+
+fs::path VideoFramesDir(const fs::path& workspace) {
+  return workspace.parent_path() / (workspace.stem().string() + "_frames");
+}
+
+ExtractSummary RunExtraction(const ExtractOptions& options) {
+  Timer timer;
+  if (options.workspace.empty()) Fail("no workspace given");
+  ExtractSummary summary;
+  const InputImages input = ListInput(options, summary);
+  summary.image_dir = input.dir;
+  summary.num_images = input.names.size();
+  const size_t n = input.names.size();
+
+  // Find one usable image before touching the workspace, so that a folder of unreadable files
+  // fails without creating or modifying it. The decoded image is reused below.
+  std::vector<bool> unusable(n, false);
+  std::optional<Image> first_image;
+  size_t first_index = n;
+  for (size_t i = 0; i < n && !first_image; ++i) {
+    first_image = LoadUsableImage(input.dir / input.names[i], options.min_image_size);
+    if (first_image) {
+      first_index = i;
+    } else {
+      unusable[i] = true;
+      ++summary.num_unusable;
+    }
+  }
+  if (!first_image) Fail("no readable image in {}", input.dir.string());
+
+  std::error_code ec;
+  if (!options.workspace.parent_path().empty()) {
+    fs::create_directories(options.workspace.parent_path(), ec);
+  }
+  Database db(options.workspace);
+
+  // Images already extracted are skipped; an image row without keypoints (e.g. imported from
+  // elsewhere) gets its features added under its existing id.
+  std::unordered_map<std::string, image_t> without_features;
+  std::unordered_map<std::string, bool> done;
+  for (const DbImage& image : db.ReadAllImages()) {
+    if (db.ExistsKeypoints(image.image_id)) {
+      done[image.name] = true;
+    } else {
+      without_features[image.name] = image.image_id;
+    }
+  }
+  std::vector<size_t> todo;
+  for (size_t i = 0; i < n; ++i) {
+    if (done.count(input.names[i])) {
+      ++summary.num_existing;
+    } else if (!unusable[i]) {
+      todo.push_back(i);
+    }
+  }
+  if (summary.num_existing > 0) {
+    info("{} of {} images already extracted, skipped", summary.num_existing, n);
+  }
+
+  Progress progress("extract", todo.size());
+  const auto extract = [&](size_t index) {
+    Extracted out;
+    out.index = index;
+    std::optional<Image> image;
+    if (index == first_index) {
+      image = std::move(first_image);
+    } else {
+      image = LoadUsableImage(input.dir / input.names[index], options.min_image_size);
+    }
+    if (!image) return out;
+    out.usable = true;
+    out.camera = DefaultCamera(*image);
+    out.features = ExtractSift(image->pixels, options.sift);
+    return out;
+  };
+  const auto write = [&](const Extracted& item) {
+    const std::string& name = input.names[item.index];
+    if (!item.usable) {
+      ++summary.num_unusable;
+      progress.Tick(1, name);
+      return;
+    }
+    const size_t count = item.features.keypoints.size();
+    if (count < static_cast<size_t>(options.min_features)) {
+      warn("image {} has only {} features (featureless?); it may not register", name, count);
+    }
+    Database::Transaction transaction(db);
+    image_t image_id;
+    if (const auto it = without_features.find(name); it != without_features.end()) {
+      image_id = it->second;
+    } else {
+      DbImage image;
+      image.name = name;
+      image.camera_id = db.WriteCamera(item.camera);
+      image_id = db.WriteImage(image);
+    }
+    db.WriteKeypoints(image_id, item.features.keypoints);
+    db.WriteDescriptors(image_id, item.features.descriptors);
+    transaction.Commit();
+    ++summary.num_extracted;
+    summary.num_features += count;
+    progress.Tick(1, name);
+  };
+
+  // A pipeline: images are extracted in parallel and written by one writer in name order
+  // (deterministic ids), with a bounded number in flight to bound memory.
+  const int threads = options.threads > 0 ? options.threads : tbb::task_arena::automatic;
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    const size_t tokens = 2 * static_cast<size_t>(arena.max_concurrency());
+    size_t next = 0;
+    tbb::parallel_pipeline(
+        tokens, tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                               [&](tbb::flow_control& control) -> size_t {
+                                                 if (next == todo.size()) {
+                                                   control.stop();
+                                                   return 0;
+                                                 }
+                                                 return todo[next++];
+                                               }) &
+                    tbb::make_filter<size_t, std::shared_ptr<Extracted>>(
+                        tbb::filter_mode::parallel,
+                        [&](size_t index) { return std::make_shared<Extracted>(extract(index)); }) &
+                    tbb::make_filter<std::shared_ptr<Extracted>, void>(
+                        tbb::filter_mode::serial_in_order,
+                        [&](const std::shared_ptr<Extracted>& item) { write(*item); }));
+  });
+  progress.Finish();
+
+  summary.seconds = timer.Seconds();
+  info(
+      "extracted {} images ({} features, {:.0f} per image) in {:.1f} s; {} skipped as "
+      "unusable",
+      summary.num_extracted, summary.num_features,
+      summary.num_extracted ? static_cast<double>(summary.num_features) / summary.num_extracted
+                            : 0.0,
+      summary.seconds, summary.num_unusable);
+  return summary;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,196 @@
+#include "varsfm/pipeline/map.h"
+
+#include <fstream>
+#include <set>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/io/bundler.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/io/database.h"
+#include "varsfm/io/ply.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/progress.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+struct LoadedWorkspace {
+  Reconstruction reconstruction;  // every image with features, unregistered
+  CorrespondenceGraph graph;
+  std::vector<std::pair<image_t, image_t>> planar_pairs;
+};
+
+LoadedWorkspace LoadWorkspace(const MapOptions& options) {
+  if (!std::filesystem::is_regular_file(options.workspace))
+    Fail("workspace {} does not exist (run `varsfm extract` and `varsfm match` first)",
+         options.workspace.string());
+  Database db(options.workspace);
+  LoadedWorkspace ws;
+  Reconstruction& rec = ws.reconstruction;
+  std::optional<Camera> shared_camera;
+  for (const DbImage& db_image : db.ReadAllImages()) {
+    if (!db.ExistsKeypoints(db_image.image_id)) continue;
+    const auto db_camera = db.ReadCamera(db_image.camera_id);
+    if (!db_camera) Fail("workspace {}: image {} has no camera", options.workspace.string(), db_image.name);
+    // Every image starts from its own camera as extracted (prior focal, centred principal
+    // point); the shared policy makes all images point at the first one.
+    Camera camera = CameraFromColmap(db_camera->model_id, db_camera->params, db_camera->width,
+                                     db_camera->height);
+    camera.camera_id = db_image.image_id;
+    if (options.sharing == IntrinsicsSharing::kShared) {
+      if (!shared_camera) {
+        shared_camera = camera;
+        rec.AddCamera(camera);
+      }
+      camera.camera_id = shared_camera->camera_id;
+    } else {
+      rec.AddCamera(camera);
+    }
+    Image image;
+    image.image_id = db_image.image_id;
+    image.name = db_image.name;
+    image.camera_id = camera.camera_id;
+    for (const auto& kp : db.ReadKeypoints(db_image.image_id))
+      image.points2D.push_back({Eigen::Vector2d(kp.x, kp.y)});
+    ws.graph.AddImage(image.image_id, image.points2D.size());
+    rec.AddImage(std::move(image));
+  }
+  if (rec.images().size() < 2)
+    Fail("workspace {} holds {} image(s) with features; at least 2 are needed",
+         options.workspace.string(), rec.images().size());
+
+  size_t pairs = 0;
+  for (const auto& [pair_id, tvg] : db.ReadAllTwoViewGeometries()) {
+    const auto [id1, id2] = Database::PairIdToImagePair(pair_id);
+    if (!ws.graph.ExistsImage(id1) || !ws.graph.ExistsImage(id2)) continue;
+    if (tvg.inlier_matches.size() < static_cast<size_t>(options.min_pair_inliers)) continue;
+    if (tvg.config == TwoViewGeometry::kDegenerate || tvg.config == TwoViewGeometry::kWatermark ||
+        tvg.config == TwoViewGeometry::kUndefined)
+      continue;
+    if (tvg.config == TwoViewGeometry::kPlanar || tvg.config == TwoViewGeometry::kPanoramic ||
+        tvg.config == TwoViewGeometry::kPlanarOrPanoramic)
+      ws.planar_pairs.push_back({std::min(id1, id2), std::max(id1, id2)});
+    ws.graph.AddImagePair(id1, id2, tvg.inlier_matches);
+    ++pairs;
+  }
+  if (pairs == 0)
+    Fail("workspace {} has no verified image pair (run `varsfm match` first)",
+         options.workspace.string());
+  info("map: {} images, {} verified pairs ({} planar/panoramic)", rec.images().size(), pairs,
+       ws.planar_pairs.size());
+  return ws;
+}
+
+// Colours of the 3D points: the mean colour of their observations in the photographs.
+void ColorPoints(const std::filesystem::path& image_dir, Reconstruction* rec) {
+  std::map<point3D_t, Eigen::Vector3d> sums;
+  std::map<point3D_t, int> counts;
+  for (const image_t id : rec->RegisteredImageIds()) {
+    const Image& image = rec->image(id);
+    const cv::Mat bgr = cv::imread((image_dir / image.name).string(), cv::IMREAD_COLOR);
+    if (bgr.empty()) continue;
+    for (const auto& p : image.points2D) {
+      if (!p.HasPoint3D()) continue;
+      const int x = std::clamp(static_cast<int>(p.xy.x()), 0, bgr.cols - 1);
+      const int y = std::clamp(static_cast<int>(p.xy.y()), 0, bgr.rows - 1);
+      const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
+      sums[p.point3D_id] += Eigen::Vector3d(c[2], c[1], c[0]);
+      ++counts[p.point3D_id];
+    }
+  }
+  for (auto& [id, point] : rec->points3D()) {
+    const auto it = sums.find(id);
+    if (it == sums.end()) continue;
+    point.color = (it->second / counts[id]).array().round().cast<uint8_t>();
+  }
+}
+
+}  // namespace
+
+nlohmann::json ReconstructionSummaryJson(const Reconstruction& rec) {
+  nlohmann::json j;
+  j["images_total"] = rec.images().size();
+  j["images_registered"] = rec.NumRegisteredImages();
+  j["points3D"] = rec.points3D().size();
+  j["observations"] = rec.NumObservations();
+  j["mean_track_length"] = rec.MeanTrackLength();
+  j["rms_reprojection_error_px"] = rec.RmsReprojectionError();
+  j["mean_reprojection_error_px"] = rec.MeanReprojectionError();
+  nlohmann::json images = nlohmann::json::array();
+  for (const auto& [id, image] : rec.images()) {
+    nlohmann::json im;
+    im["image_id"] = id;
+    im["name"] = image.name;
+    im["registered"] = image.registered;
+    if (image.registered) {
+      const Camera& c = rec.camera(image.camera_id);
+      im["camera_id"] = image.camera_id;
+      im["focal_px"] = c.focal();
+      im["aspect"] = c.params[Camera::kAspect];
+      im["skew"] = c.params[Camera::kSkew];
+      im["principal_point"] = {c.params[Camera::kU0], c.params[Camera::kV0]};
+      im["k1"] = c.params[Camera::kK1];
+      im["k2"] = c.params[Camera::kK2];
+      im["num_points3D"] = image.NumPoints3D();
+      const Eigen::Vector3d center = image.Center();
+      im["center"] = {center.x(), center.y(), center.z()};
+    }
+    images.push_back(im);
+  }
+  j["images"] = images;
+  return j;
+}
+
+MapResult RunMapping(const MapOptions& options) {
+  Timer total;
+  LoadedWorkspace ws = LoadWorkspace(options);
+  MapResult result;
+  result.reconstruction = std::move(ws.reconstruction);
+
+  IncrementalMapperOptions mapper_options = options.mapper;
+  Progress progress("map", result.reconstruction.images().size());
+  size_t shown = 0;
+  mapper_options.progress = [&](size_t registered, size_t, double rms) {
+    progress.Tick(registered - shown, fmt::format("registered, RMS {:.3f} px", rms));
+    shown = registered;
+  };
+  IncrementalMapper mapper(ws.graph, ws.planar_pairs, mapper_options);
+  Timer mapping;
+  result.mapper = mapper.Reconstruct(&result.reconstruction);
+  result.seconds_mapping = mapping.Seconds();
+  progress.Finish();
+  if (!result.mapper.success) Fail("map: {}", result.mapper.message);
+
+  Reconstruction& rec = result.reconstruction;
+  if (!options.image_dir.empty()) ColorPoints(options.image_dir, &rec);
+  std::filesystem::create_directories(options.output);
+  const auto sparse = options.output / "sparse";
+  WriteColmapModel(rec, sparse, {.binary = false});
+  WriteColmapModel(rec, sparse, {.binary = true});
+  WritePly(rec, options.output / "sparse.ply");
+  WriteBundler(rec, options.output / "bundle.out", options.output / "list.txt");
+  result.seconds = total.Seconds();
+
+  nlohmann::json summary = ReconstructionSummaryJson(rec);
+  summary["seconds"] = {{"map_total", result.seconds}, {"mapping", result.seconds_mapping},
+                        {"initialization", result.mapper.seconds_initialization},
+                        {"registration", result.mapper.seconds_registration},
+                        {"triangulation", result.mapper.seconds_triangulation},
+                        {"local_ba", result.mapper.seconds_local_ba},
+                        {"global_ba", result.mapper.seconds_global_ba}};
+  summary["initial_pair"] = {result.mapper.initial_image_id1, result.mapper.initial_image_id2};
+  summary["initial_calibration_degenerate"] = result.mapper.initial_calibration_degenerate;
+  summary["local_bundle_adjustments"] = result.mapper.num_local_ba;
+  summary["global_bundle_adjustments"] = result.mapper.num_global_ba;
+  std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
+  info("map: {}/{} images registered, {} points, RMS {:.3f} px, {:.2f} s",
+       rec.NumRegisteredImages(), rec.images().size(), rec.points3D().size(),
+       rec.RmsReprojectionError(), result.seconds);
+  return result;
+}
+
+}  // namespace varsfm

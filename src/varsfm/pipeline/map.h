@@ -1,0 +1,44 @@
+#pragma once
+// Stage 3 of the pipeline: the workspace's features and verified matches in, a sparse model out
+// (OUT/sparse/ as COLMAP text + binary, OUT/sparse.ply, OUT/bundle.out + list.txt,
+// OUT/summary.json).
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/sfm/incremental_mapper.h"
+
+namespace varsfm {
+
+enum class IntrinsicsSharing {
+  kPerImage,  // every image its own camera (the paper; default)
+  kShared,    // one camera for all images (a fixed-zoom capture)
+};
+
+struct MapOptions {
+  std::filesystem::path workspace;
+  std::filesystem::path output;
+  std::filesystem::path image_dir;  // optional: colours of the points are read from the images
+  IntrinsicsSharing sharing = IntrinsicsSharing::kPerImage;
+  IncrementalMapperOptions mapper;
+  int min_pair_inliers = 15;  // pairs with fewer verified matches are ignored
+};
+
+struct MapResult {
+  MapperSummary mapper;
+  Reconstruction reconstruction;
+  double seconds = 0;  // the whole stage: loading, mapping, writing
+  double seconds_mapping = 0;
+};
+
+// Loads the workspace, reconstructs, writes the outputs. Throws varsfm::Error (one line) when the
+// workspace is missing or holds fewer than two images with features, or when no pair can
+// initialise: nothing is written in that case (an existing OUT is left as it was).
+MapResult RunMapping(const MapOptions& options);
+
+// The content of summary.json for a reconstruction (stage timings are added by the caller).
+nlohmann::json ReconstructionSummaryJson(const Reconstruction& reconstruction);
+
+}  // namespace varsfm

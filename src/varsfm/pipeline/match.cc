@@ -1,0 +1,162 @@
+#include "varsfm/pipeline/match.h"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <set>
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include "varsfm/io/database.h"
+#include "varsfm/matching/pair_selection.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/progress.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+// Pairs are processed in chunks so that only the features of the images a chunk touches are
+// held in memory (large exhaustive runs), while each chunk still has enough pairs to keep all
+// cores busy.
+constexpr size_t kPairsPerChunk = 256;
+
+struct LoadedImage {
+  FeatureKeypoints keypoints;
+  std::unique_ptr<MatchableDescriptors> descriptors;
+};
+
+struct PairResult {
+  FeatureMatches matches;
+  TwoViewGeometry geometry;
+};
+
+// Images with both keypoints and descriptors, in name order (the sequential order).
+std::vector<DbImage> ImagesWithFeatures(const Database& db) {
+  std::vector<DbImage> images;
+  for (DbImage& image : db.ReadAllImages()) {
+    if (db.ExistsKeypoints(image.image_id) && db.ExistsDescriptors(image.image_id)) {
+      images.push_back(std::move(image));
+    }
+  }
+  std::sort(images.begin(), images.end(),
+            [](const DbImage& a, const DbImage& b) { return a.name < b.name; });
+  return images;
+}
+
+// Loads (serially: one database connection) and prepares (in parallel) the features of the
+// images `pairs` use, dropping those no longer needed.
+void LoadFeatures(const Database& db, const ImagePairs& pairs, bool use_simd,
+                  std::map<image_t, std::shared_ptr<LoadedImage>>* cache) {
+  std::set<image_t> needed;
+  for (const auto& [id1, id2] : pairs) needed.insert({id1, id2});
+  std::erase_if(*cache, [&](const auto& entry) { return !needed.contains(entry.first); });
+  std::vector<std::pair<image_t, FeatureDescriptors>> to_prepare;
+  for (image_t id : needed) {
+    if (cache->contains(id)) continue;
+    auto features = std::make_shared<LoadedImage>();
+    features->keypoints = db.ReadKeypoints(id);
+    FeatureDescriptors descriptors = db.ReadDescriptors(id);
+    if (static_cast<size_t>(descriptors.rows()) != features->keypoints.size()) {
+      Fail("image {} has {} keypoints but {} descriptors in the workspace", id,
+           features->keypoints.size(), descriptors.rows());
+    }
+    (*cache)[id] = std::move(features);
+    to_prepare.emplace_back(id, std::move(descriptors));
+  }
+  tbb::parallel_for(size_t{0}, to_prepare.size(), [&](size_t k) {
+    (*cache)[to_prepare[k].first]->descriptors =
+        std::make_unique<MatchableDescriptors>(to_prepare[k].second, use_simd);
+  });
+}
+
+PairResult MatchPair(const LoadedImage& f1, const LoadedImage& f2, image_t id1, image_t id2,
+                     const MatchOptions& options) {
+  PairResult result;
+  result.matches = MatchDescriptors(*f1.descriptors, *f2.descriptors, options.matching);
+  VerificationOptions verification = options.verification;
+  // Seeded by the pair, not by its position in the run: re-runs and thread counts agree.
+  verification.seed = DeriveSeed(options.seed, Database::ImagePairToPairId(id1, id2));
+  result.geometry = VerifyTwoViewGeometry(f1.keypoints, f2.keypoints, result.matches, verification);
+  // As COLMAP: a pair without enough support keeps its raw matches and gets an empty geometry.
+  if (result.geometry.inlier_matches.size() <
+      static_cast<size_t>(options.verification.min_num_inliers)) {
+    result.geometry = TwoViewGeometry();
+  }
+  return result;
+}
+
+}  // namespace
+
+MatchSummary RunMatching(const MatchOptions& options) {
+  // Checked before opening: Database would create a missing file.
+  if (!std::filesystem::is_regular_file(options.workspace)) {
+    Fail("workspace {} does not exist (run `varsfm extract` first)", options.workspace.string());
+  }
+  if (options.strategy != "exhaustive" && options.strategy != "sequential") {
+    Fail("unknown matching strategy '{}' (exhaustive or sequential)", options.strategy);
+  }
+  std::unique_ptr<tbb::global_control> threads;
+  if (options.num_threads > 0) {
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    options.num_threads);
+  }
+  Timer timer;
+  Database db(options.workspace);
+  const std::vector<DbImage> images = ImagesWithFeatures(db);
+  if (images.size() < 2) {
+    Fail("workspace {} has {} image(s) with features; matching needs at least 2",
+         options.workspace.string(), images.size());
+  }
+  std::vector<image_t> ids;
+  for (const DbImage& image : images) ids.push_back(image.image_id);
+  const ImagePairs all_pairs = options.strategy == "exhaustive"
+                                   ? ExhaustivePairs(ids)
+                                   : SequentialPairs(ids, options.overlap);
+  MatchSummary summary;
+  summary.num_images = images.size();
+  summary.num_pairs = all_pairs.size();
+  ImagePairs pairs;
+  for (const auto& [id1, id2] : all_pairs) {
+    if (db.ExistsTwoViewGeometry(id1, id2)) {
+      ++summary.num_skipped;
+    } else {
+      pairs.emplace_back(id1, id2);
+    }
+  }
+  info("match: {} images, {} {} pairs ({} already verified)", images.size(), all_pairs.size(),
+       options.strategy, summary.num_skipped);
+
+  Progress progress("match", pairs.size());
+  std::map<image_t, std::shared_ptr<LoadedImage>> cache;
+  for (size_t begin = 0; begin < pairs.size(); begin += kPairsPerChunk) {
+    const ImagePairs chunk(pairs.begin() + begin,
+                           pairs.begin() + std::min(pairs.size(), begin + kPairsPerChunk));
+    LoadFeatures(db, chunk, options.matching.use_simd, &cache);
+    std::vector<PairResult> results(chunk.size());
+    tbb::parallel_for(size_t{0}, chunk.size(), [&](size_t k) {
+      const auto [id1, id2] = chunk[k];
+      results[k] = MatchPair(*cache.at(id1), *cache.at(id2), id1, id2, options);
+      progress.Tick();
+    });
+    for (size_t k = 0; k < chunk.size(); ++k) {
+      const auto [id1, id2] = chunk[k];
+      Database::Transaction transaction(db);
+      db.WriteMatches(id1, id2, results[k].matches);
+      db.WriteTwoViewGeometry(id1, id2, results[k].geometry);
+      transaction.Commit();
+      if (!results[k].geometry.inlier_matches.empty()) {
+        ++summary.num_verified;
+        summary.num_inlier_matches += results[k].geometry.inlier_matches.size();
+      }
+    }
+  }
+  progress.Finish();
+  info("match: {} of {} new pairs verified, {} inlier matches, {:.1f} s", summary.num_verified,
+       pairs.size(), summary.num_inlier_matches, timer.Seconds());
+  return summary;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,524 @@
+#include "varsfm/sfm/incremental_mapper.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <set>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "varsfm/ba/bundle_adjuster.h"
+#include "varsfm/calibration/two_view_calibration.h"
+#include "varsfm/estimators/projection_estimator.h"
+#include "varsfm/estimators/two_view_estimators.h"
+#include "varsfm/geometry/projection_decomposition.h"
+#include "varsfm/geometry/triangulation.h"
+#include "varsfm/sfm/absolute_pose_refinement.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// A 2D point of the image being registered and the 3D point its tracks lead to.
+struct Correspondence2D3D {
+  point2D_t point2D_idx;
+  point3D_t point3D_id;
+};
+
+// The intrinsics the bundle adjustments refine, from the mapper's policy.
+IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o) {
+  IntrinsicsOptions in;
+  in.refine_focal = true;
+  in.refine_aspect = o.refine_aspect;
+  in.refine_skew = o.refine_skew;
+  in.refine_principal_point = o.refine_principal_point;
+  in.refine_k1 = o.refine_distortion;
+  in.refine_k2 = o.refine_distortion;
+  return in;
+}
+
+// Whether a K from the DLT decomposition is physically plausible for this image.
+bool PlausibleCalibration(const Eigen::Matrix3d& K, const Camera& camera) {
+  const double size = std::max(camera.width, camera.height);
+  const double f = K(0, 0);
+  const double aspect = K(1, 1) / K(0, 0);
+  const Eigen::Vector2d pp(K(0, 2), K(1, 2));
+  const Eigen::Vector2d centre(camera.width / 2.0, camera.height / 2.0);
+  return f > 0.3 * size && f < 5 * size && aspect > 0.8 && aspect < 1.25 &&
+         std::abs(K(0, 1)) < 0.1 * f && (pp - centre).norm() < 0.3 * size;
+}
+
+double MedianTriangulationAngle(const Reconstruction& rec) {
+  std::vector<double> angles;
+  for (const auto& [id, point] : rec.points3D()) {
+    if (point.track.size() < 2) continue;
+    angles.push_back(TriangulationAngle(rec.image(point.track[0].image_id).Center(),
+                                        rec.image(point.track[1].image_id).Center(), point.xyz));
+  }
+  if (angles.empty()) return 0;
+  std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+  return angles[angles.size() / 2];
+}
+
+// Inlier count of a pose+camera on the 2D-3D correspondences.
+size_t CountInliers(const Camera& camera, const Rigid3d& pose,
+                    const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Vector3d>& X,
+                    double max_error) {
+  size_t n = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    if (ReprojectionError(camera, pose, x[i], X[i]) <= max_error) ++n;
+  return n;
+}
+
+}  // namespace
+
+IncrementalMapper::IncrementalMapper(const CorrespondenceGraph& graph,
+                                     std::vector<std::pair<image_t, image_t>> excluded,
+                                     IncrementalMapperOptions options)
+    : graph_(graph), excluded_initial_pairs_(std::move(excluded)), options_(std::move(options)) {}
+
+MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
+  MapperSummary summary;
+  summary.num_images = rec->images().size();
+  registration_order_.clear();
+
+  // 1. Initialisation: candidates by the disparity criterion; the first pair whose
+  // self-calibration is not degenerate wins, else the best degenerate one (prior focal).
+  Timer timer;
+  const auto candidates =
+      RankInitialPairs(*rec, graph_, excluded_initial_pairs_, options_.initial_pair);
+  if (candidates.empty()) {
+    summary.message = "no image pair has enough verified matches to initialise the reconstruction";
+    return summary;
+  }
+  const Reconstruction empty = *rec;
+  bool initialized = false;
+  std::optional<InitialPairCandidate> degenerate_fallback;
+  const int trials = std::min<int>(options_.max_initial_pair_trials, candidates.size());
+  for (int k = 0; k < trials && !initialized; ++k) {
+    *rec = empty;
+    if (Initialize(rec, candidates[k], &summary)) {
+      if (!summary.initial_calibration_degenerate) {
+        initialized = true;
+      } else if (!degenerate_fallback) {
+        degenerate_fallback = candidates[k];
+      }
+    }
+  }
+  if (!initialized && degenerate_fallback) {
+    *rec = empty;
+    initialized = Initialize(rec, *degenerate_fallback, &summary);
+  }
+  if (!initialized) {
+    *rec = empty;
+    summary.message = "no image pair could be initialised (too little parallax, or matches explained "
+                      "by a rotation or a plane)";
+    return summary;
+  }
+  summary.seconds_initialization = timer.Seconds();
+  if (options_.progress) options_.progress(2, summary.num_images, rec->RmsReprojectionError());
+
+  // 2. Register the other images one by one; failed ones are retried after later successes.
+  size_t last_global_size = 2;
+  bool first_global_done = false;
+  while (true) {
+    bool registered_any = false;
+    for (const image_t image_id : NextImageCandidates(*rec)) {
+      Timer reg_timer;
+      const bool ok = RegisterImage(rec, image_id);
+      summary.seconds_registration += reg_timer.Seconds();
+      if (!ok) continue;
+      registration_order_.push_back(image_id);
+      Timer tri_timer;
+      TriangulateImage(rec, image_id);
+      summary.seconds_triangulation += tri_timer.Seconds();
+
+      const size_t n = rec->NumRegisteredImages();
+      // M0 <= 0: a global BA after every image (the Pollefeys-like baseline of the paper).
+      const bool paper_global =
+          options_.first_global_ba_images <= 0 ||
+          (!first_global_done && n >= static_cast<size_t>(options_.first_global_ba_images));
+      const bool growth_global = first_global_done && options_.global_ba_growth > 1.0 &&
+                                 n >= options_.global_ba_growth * last_global_size;
+      if (paper_global || growth_global) {
+        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
+        first_global_done = true;
+        last_global_size = n;
+      } else {
+        LocalBundleAdjustment(rec, &summary);
+      }
+      if (options_.progress) options_.progress(n, summary.num_images, rec->RmsReprojectionError());
+      registered_any = true;
+      break;  // candidates change with every registration
+    }
+    if (!registered_any) break;
+  }
+
+  // 3. Final global adjustment (with re-triangulation and filtering).
+  GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
+  rec->UpdatePointErrors();
+  summary.num_registered = rec->NumRegisteredImages();
+  summary.success = true;
+  return summary;
+}
+
+bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
+                                   MapperSummary* summary) {
+  const image_t id1 = pair.image_id1, id2 = pair.image_id2;
+  const FeatureMatches matches = graph_.MatchesBetween(id1, id2);
+  std::vector<Eigen::Vector2d> x1, x2;
+  for (const auto& m : matches) {
+    x1.push_back(rec->image(id1).points2D[m.point2D_idx1].xy);
+    x2.push_back(rec->image(id2).points2D[m.point2D_idx2].xy);
+  }
+  // F re-estimated on the verified matches with a tighter threshold, then refined.
+  RansacOptions ransac;
+  ransac.max_error = 1.5;
+  ransac.seed = options_.seed;
+  const auto f_report = EstimateFundamentalMatrix(x1, x2, ransac);
+  if (!f_report.success) return false;
+  std::vector<Eigen::Vector2d> in1, in2;
+  FeatureMatches inlier_matches;
+  for (size_t i = 0; i < x1.size(); ++i)
+    if (f_report.inlier_mask[i]) {
+      in1.push_back(x1[i]);
+      in2.push_back(x2[i]);
+      inlier_matches.push_back(matches[i]);
+    }
+
+  Camera& camera1 = rec->CameraOf(id1);
+  Camera& camera2 = rec->CameraOf(id2);
+  TwoViewCalibrationOptions calib_options;
+  calib_options.refine_distortion = options_.refine_distortion;
+  const TwoViewCalibration calib =
+      CalibrateTwoView(in1, in2, camera1.width, camera1.height, camera2.width, camera2.height,
+                       f_report.model, calib_options);
+  if (!calib.success) return false;
+  debug("initial pair {} {}: f1 {:.1f} f2 {:.1f} degenerate {} ({})", id1, id2,
+        calib.camera1.focal(), calib.camera2.focal(), calib.degenerate, calib.degeneracy_reason);
+
+  const bool shared = rec->image(id1).camera_id == rec->image(id2).camera_id;
+  camera1.params = calib.camera1.params;
+  if (!shared) camera2.params = calib.camera2.params;
+  rec->image(id1).cam_from_world = Rigid3d();
+  rec->image(id2).cam_from_world = calib.cam2_from_cam1;
+  rec->RegisterImage(id1);
+  rec->RegisterImage(id2);
+  for (size_t i = 0; i < inlier_matches.size(); ++i) {
+    if (!calib.point_valid[i]) continue;
+    rec->AddPoint3D(calib.points[i], {{id1, inlier_matches[i].point2D_idx1},
+                                      {id2, inlier_matches[i].point2D_idx2}});
+  }
+  if (rec->points3D().size() < static_cast<size_t>(options_.min_initial_points)) return false;
+  if (MedianTriangulationAngle(*rec) < options_.init_min_median_angle_deg * kDegree) {
+    debug("initial pair {} {}: too little parallax", id1, id2);
+    return false;
+  }
+
+  // Two-view bundle adjustment (eq. 34) with the mapper's intrinsics policy.
+  BundleAdjustmentOptions ba;
+  ba.intrinsics = MapperIntrinsics(options_);
+  ba.num_threads = options_.num_threads;
+  RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
+  rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
+  if (rec->points3D().size() < static_cast<size_t>(options_.min_initial_points)) return false;
+
+  summary->initial_image_id1 = id1;
+  summary->initial_image_id2 = id2;
+  summary->initial_calibration_degenerate = calib.degenerate;
+  registration_order_ = {id1, id2};
+  return true;
+}
+
+std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction& rec) const {
+  // Score: the number of the image's 2D points whose tracks reach a reconstructed 3D point.
+  std::vector<std::pair<size_t, image_t>> scored;
+  image_t last_registered = registration_order_.empty() ? 0 : registration_order_.back();
+  for (const auto& [image_id, image] : rec.images()) {
+    if (image.registered) continue;
+    size_t visible = 0;
+    for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
+      for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
+        const Image& other = rec.image(corr.image_id);
+        if (other.registered && other.points2D[corr.point2D_idx].HasPoint3D()) {
+          ++visible;
+          break;
+        }
+      }
+    }
+    if (visible < static_cast<size_t>(options_.min_correspondences)) continue;
+    size_t key = visible;
+    if (options_.sequential_order) {
+      // Nearest in sequence to the last registered image first.
+      const size_t distance = image_id > last_registered ? image_id - last_registered
+                                                         : last_registered - image_id;
+      key = std::numeric_limits<size_t>::max() - distance;
+    }
+    scored.push_back({key, image_id});
+  }
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  std::vector<image_t> ids;
+  for (const auto& [score, id] : scored) ids.push_back(id);
+  return ids;
+}
+
+bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
+  Image& image = rec->image(image_id);
+  // 2D-3D correspondences through tracks (Algorithm 2, over every registered image).
+  std::vector<Correspondence2D3D> corrs;
+  for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
+    for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
+      const Image& other = rec->image(corr.image_id);
+      if (!other.registered) continue;
+      const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
+      if (pid == kInvalidPoint3DId) continue;
+      corrs.push_back({idx, pid});
+      break;
+    }
+  }
+  if (corrs.size() < static_cast<size_t>(std::max(options_.min_correspondences, 6))) return false;
+  std::vector<Eigen::Vector2d> x;
+  std::vector<Eigen::Vector3d> X;
+  for (const auto& c : corrs) {
+    x.push_back(image.points2D[c.point2D_idx].xy);
+    X.push_back(rec->point3D(c.point3D_id).xyz);
+  }
+
+  Camera& camera = rec->CameraOf(image_id);
+  const bool shared_camera = [&] {
+    for (const image_t other : registration_order_)
+      if (rec->image(other).camera_id == image.camera_id) return true;
+    return false;
+  }();
+  // The focal length of the registered image this one shares most points with: the
+  // starting value when the DLT's K is implausible (zoom changes slowly along a capture).
+  std::map<image_t, size_t> shared_points;
+  for (const auto& c : corrs)
+    for (const auto& el : rec->point3D(c.point3D_id).track) ++shared_points[el.image_id];
+  image_t neighbour = registration_order_.back();
+  size_t best = 0;
+  for (const auto& [id, count] : shared_points)
+    if (count > best) best = count, neighbour = id;
+  const Camera neighbour_camera = rec->CameraOf(neighbour);
+
+  AbsolutePoseRefinementOptions refine;
+  refine.intrinsics = MapperIntrinsics(options_);
+  if (shared_camera) refine.intrinsics = IntrinsicsOptions{false, false, false, false, false, false};
+  refine.intrinsics.refine_k1 = refine.intrinsics.refine_k2 = false;  // few points: BA does it
+
+  struct Hypothesis {
+    Camera camera;
+    Rigid3d pose;
+    size_t inliers = 0;
+  };
+  std::vector<Hypothesis> hypotheses;
+  const auto refine_and_score = [&](Hypothesis h) {
+    std::vector<Eigen::Vector2d> xi;
+    std::vector<Eigen::Vector3d> Xi;
+    for (size_t i = 0; i < x.size(); ++i)
+      if (ReprojectionError(h.camera, h.pose, x[i], X[i]) <= 4 * options_.registration_max_error_px) {
+        xi.push_back(x[i]);
+        Xi.push_back(X[i]);
+      }
+    if (xi.size() < 6 || !RefineAbsolutePose(refine, xi, Xi, &h.camera, &h.pose)) return;
+    h.inliers = CountInliers(h.camera, h.pose, x, X, options_.registration_max_error_px);
+    hypotheses.push_back(h);
+  };
+
+  // (a) The paper: RANSAC + DLT projection matrix, decomposed into K, R, t (section 4.3).
+  RansacOptions ransac;
+  ransac.max_error = options_.registration_max_error_px;
+  ransac.seed = DeriveSeed(options_.seed, image_id);
+  const auto p_report = EstimateProjectionMatrix(x, X, ransac);
+  if (p_report.success) {
+    Eigen::Matrix3d K, R;
+    Eigen::Vector3d t;
+    if (DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) {
+      Hypothesis h{shared_camera ? camera : neighbour_camera, Rigid3d(R, t), 0};
+      if (!shared_camera && PlausibleCalibration(K, camera)) {
+        // Keep the held parameters at their initial values (policy), take the rest from K.
+        Camera from_dlt = camera;
+        from_dlt.params[Camera::kK1] = neighbour_camera.params[Camera::kK1];
+        from_dlt.params[Camera::kK2] = neighbour_camera.params[Camera::kK2];
+        from_dlt.focal() = 0.5 * (K(0, 0) + K(1, 1));
+        if (options_.refine_aspect) from_dlt.params[Camera::kAspect] = K(1, 1) / K(0, 0);
+        if (options_.refine_skew) from_dlt.params[Camera::kSkew] = K(0, 1);
+        if (options_.refine_principal_point) {
+          from_dlt.params[Camera::kU0] = K(0, 2);
+          from_dlt.params[Camera::kV0] = K(1, 2);
+        }
+        h.camera = from_dlt;
+      }
+      refine_and_score(h);
+    }
+  }
+  // (b) Fallback: PnP with the neighbour's intrinsics (robust on nearly planar point sets,
+  // where the DLT is ill-posed), then the same refinement frees the focal length.
+  {
+    const Camera start = shared_camera ? camera : neighbour_camera;
+    std::vector<cv::Point2d> image_points;
+    std::vector<cv::Point3d> object_points;
+    for (size_t i = 0; i < x.size(); ++i) {
+      const Eigen::Vector2d n = start.ImageToNormalized(x[i]);
+      image_points.emplace_back(n.x(), n.y());
+      object_points.emplace_back(X[i].x(), X[i].y(), X[i].z());
+    }
+    cv::Mat rvec, tvec;
+    cv::setRNGSeed(static_cast<int>(DeriveSeed(options_.seed, image_id) & 0x7fffffff));
+    if (cv::solvePnPRansac(object_points, image_points, cv::Mat::eye(3, 3, CV_64F), cv::noArray(),
+                           rvec, tvec, false, 1000,
+                           options_.registration_max_error_px / start.focal(), 0.9999,
+                           cv::noArray(), cv::SOLVEPNP_AP3P)) {
+      cv::Mat Rcv;
+      cv::Rodrigues(rvec, Rcv);
+      Eigen::Matrix3d R;
+      Eigen::Vector3d t;
+      cv::cv2eigen(Rcv, R);
+      cv::cv2eigen(tvec, t);
+      refine_and_score({start, Rigid3d(R, t), 0});
+    }
+  }
+  if (hypotheses.empty()) return false;
+  const Hypothesis& chosen = *std::max_element(
+      hypotheses.begin(), hypotheses.end(),
+      [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
+  if (chosen.inliers < static_cast<size_t>(options_.min_registration_inliers)) return false;
+  const double size = std::max(camera.width, camera.height);
+  if (chosen.camera.focal() < 0.2 * size || chosen.camera.focal() > 10 * size) return false;
+
+  if (!shared_camera) camera.params = chosen.camera.params;
+  image.cam_from_world = chosen.pose;
+  rec->RegisterImage(image_id);
+  for (size_t i = 0; i < corrs.size(); ++i)
+    if (ReprojectionError(camera, image.cam_from_world, x[i], X[i]) <=
+        options_.registration_max_error_px)
+      rec->AddObservation(corrs[i].point3D_id, {image_id, corrs[i].point2D_idx});
+  debug("registered image {} ({}) with {} inliers of {}, f {:.1f}", image_id, image.name,
+        chosen.inliers, corrs.size(), camera.focal());
+  return true;
+}
+
+size_t IncrementalMapper::TriangulateImage(Reconstruction* rec, image_t image_id) {
+  const double max_error = options_.triangulation_max_error_px;
+  const double min_angle = options_.min_triangulation_angle_deg * kDegree;
+  size_t added = 0;
+  const size_t num_points2D = rec->image(image_id).points2D.size();
+  for (point2D_t idx = 0; idx < num_points2D; ++idx) {
+    if (rec->image(image_id).points2D[idx].HasPoint3D()) continue;
+    const auto& corrs = graph_.CorrespondencesOf(image_id, idx);
+    if (corrs.empty()) continue;
+    const Eigen::Vector2d& xy = rec->image(image_id).points2D[idx].xy;
+
+    // Continue an existing track when the point reprojects well here.
+    point3D_t best_id = kInvalidPoint3DId;
+    double best_error = max_error;
+    std::vector<TrackElement> fresh = {{image_id, idx}};
+    for (const auto& corr : corrs) {
+      const Image& other = rec->image(corr.image_id);
+      if (!other.registered) continue;
+      const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
+      if (pid == kInvalidPoint3DId) {
+        fresh.push_back({corr.image_id, corr.point2D_idx});
+        continue;
+      }
+      const double error = std::sqrt(
+          rec->SquaredReprojectionError({image_id, idx}, rec->point3D(pid).xyz));
+      if (error < best_error) best_error = error, best_id = pid;
+    }
+    if (best_id != kInvalidPoint3DId) {
+      rec->AddObservation(best_id, {image_id, idx});
+      continue;
+    }
+    if (fresh.size() < 2) continue;
+
+    // A new point from every registered view that sees it: linear multi-view triangulation in
+    // normalised coordinates, then refinement of the pixel error through each camera.
+    std::vector<Matrix34d> Ps;
+    std::vector<Eigen::Vector2d> normalized, pixels;
+    std::vector<Camera> cameras;
+    std::vector<Rigid3d> poses;
+    for (const auto& el : fresh) {
+      const Image& im = rec->image(el.image_id);
+      Ps.push_back(im.cam_from_world.ToMatrix());
+      cameras.push_back(rec->camera(im.camera_id));
+      poses.push_back(im.cam_from_world);
+      pixels.push_back(im.points2D[el.point2D_idx].xy);
+      normalized.push_back(cameras.back().ImageToNormalized(pixels.back()));
+    }
+    Eigen::Vector3d X;
+    if (!TriangulateMultiView(Ps, normalized, &X)) continue;
+    RefineTriangulatedPoint(cameras, poses, pixels, &X);
+    std::vector<TrackElement> track;
+    std::vector<Eigen::Vector3d> centers;
+    for (size_t k = 0; k < fresh.size(); ++k) {
+      if (!HasPositiveDepth(poses[k], X)) continue;
+      if (ReprojectionError(cameras[k], poses[k], pixels[k], X) > max_error) continue;
+      track.push_back(fresh[k]);
+      centers.push_back(poses[k].Center());
+    }
+    if (track.size() < 2 || track.front().image_id != image_id) continue;
+    double angle = 0;
+    for (size_t a = 0; a < centers.size() && angle < min_angle; ++a)
+      for (size_t b = a + 1; b < centers.size() && angle < min_angle; ++b)
+        angle = std::max(angle, TriangulationAngle(centers[a], centers[b], X));
+    if (angle < min_angle) continue;
+    rec->AddPoint3D(X, track);
+    ++added;
+  }
+  return added;
+}
+
+void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary) {
+  Timer timer;
+  const size_t m0 = std::min<size_t>(options_.local_ba_images, registration_order_.size());
+  const std::vector<image_t> window(registration_order_.end() - m0, registration_order_.end());
+  BundleAdjustmentOptions ba;
+  ba.intrinsics = MapperIntrinsics(options_);
+  ba.num_threads = options_.num_threads;
+  ba.max_iterations = 50;
+  const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Local(*rec, window), rec);
+  debug("local BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
+        ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
+        ba_summary.initial_rms_px, ba_summary.final_rms_px);
+  rec->FilterObservationsWithLargeError(options_.filter_max_error_px, window);
+  rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg, window);
+  ++summary->num_local_ba;
+  summary->seconds_local_ba += timer.Seconds();
+}
+
+void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary,
+                                               bool retriangulate) {
+  Timer timer;
+  BundleAdjustmentOptions ba;
+  ba.intrinsics = MapperIntrinsics(options_);
+  ba.num_threads = options_.num_threads;
+  const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
+  debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
+        ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
+        ba_summary.initial_rms_px, ba_summary.final_rms_px);
+  rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
+  rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
+  if (retriangulate) {
+    // Re-triangulation: with better poses and intrinsics, more tracks pass the checks.
+    size_t added = 0;
+    for (const image_t id : registration_order_) added += TriangulateImage(rec, id);
+    if (added > 0) {
+      RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
+      rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
+      rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
+    }
+  }
+  ++summary->num_global_ba;
+  summary->seconds_global_ba += timer.Seconds();
+}
+
+}  // namespace varsfm

@@ -1,0 +1,111 @@
+#pragma once
+// The incremental mapper: Algorithm 1 of El Hazzat et al., on a camera whose intrinsics change
+// from image to image.
+//   1. initial pair by the disparity criterion (initial_pair.h), two-view self-calibration,
+//      triangulation and two-view bundle adjustment with k1, k2;
+//   2. for each next image: 2D-3D correspondences through the tracks of every registered image,
+//      RANSAC + DLT projection matrix (>= n0 = 6 correspondences), decomposition into K, R, t,
+//      non-linear refinement of the pose and free intrinsics on the inliers; triangulation of
+//      new points with every registered image it matches; local bundle adjustment over the last
+//      m0 images; a global bundle adjustment when M0 images are registered and at the end.
+// Beyond the paper (as robust systems do): next-best-view order, retries of images that failed
+// to register, outlier filtering after each bundle adjustment, re-triangulation, further global
+// adjustments as the model grows, and a PnP fallback when the DLT's K is implausible (a nearly
+// planar set of points makes the DLT ill-posed).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/sfm/correspondence_graph.h"
+#include "varsfm/sfm/initial_pair.h"
+#include "varsfm/util/random.h"
+
+namespace varsfm {
+
+struct IncrementalMapperOptions {
+  InitialPairOptions initial_pair;
+  int max_initial_pair_trials = 10;
+  int min_initial_points = 50;
+  // The initial pair's points must have this median triangulation angle: a pure rotation or
+  // a too-short baseline gives near-zero angles (and a meaningless structure).
+  double init_min_median_angle_deg = 3.0;
+
+  int local_ba_images = 3;          // m0 of the paper
+  int first_global_ba_images = 13;  // M0 of the paper (10..20)
+  // Beyond the paper: a further global BA each time the model has grown by this factor since
+  // the last one (0 disables: the paper's schedule).
+  double global_ba_growth = 1.4;
+
+  int min_correspondences = 6;  // n0: the DLT needs six 2D-3D correspondences
+  int min_registration_inliers = 15;
+  double registration_max_error_px = 4.0;
+  double triangulation_max_error_px = 4.0;
+  double filter_max_error_px = 4.0;
+  double min_triangulation_angle_deg = 1.5;
+
+  // Which intrinsics are estimated per image (the others stay at their initial values:
+  // principal point at the image centre, aspect 1, skew 0). The paper refines them all; on
+  // real sequences holding the principal point, aspect and skew is more accurate (see
+  // docs/mapper.md).
+  bool refine_principal_point = false;
+  bool refine_aspect = false;
+  bool refine_skew = false;
+  bool refine_distortion = true;
+
+  // Next image: the one that sees the most reconstructed points (next-best view), or the
+  // next in sequence order for ordered input (video, numbered photos).
+  bool sequential_order = false;
+
+  int num_threads = 0;
+  uint64_t seed = kDefaultSeed;
+  // Called after each registration: (registered, total, RMS reprojection error px).
+  std::function<void(size_t, size_t, double)> progress;
+};
+
+struct MapperSummary {
+  bool success = false;
+  std::string message;  // why it failed, one line
+  image_t initial_image_id1 = kInvalidImageId;
+  image_t initial_image_id2 = kInvalidImageId;
+  bool initial_calibration_degenerate = false;
+  size_t num_registered = 0;
+  size_t num_images = 0;
+  size_t num_local_ba = 0;
+  size_t num_global_ba = 0;
+  double seconds_initialization = 0;
+  double seconds_registration = 0;
+  double seconds_triangulation = 0;
+  double seconds_local_ba = 0;
+  double seconds_global_ba = 0;
+};
+
+class IncrementalMapper {
+ public:
+  // `graph` holds the verified matches of the pairs that are not planar/panoramic;
+  // `excluded_initial_pairs` lists pairs never to start from (homography-explained).
+  IncrementalMapper(const CorrespondenceGraph& graph,
+                    std::vector<std::pair<image_t, image_t>> excluded_initial_pairs,
+                    IncrementalMapperOptions options);
+
+  // `reconstruction` holds every image (unregistered) with its 2D points and a camera whose
+  // width/height and initial focal length are set. On return the registered images have poses
+  // and intrinsics, and the 3D points their tracks.
+  MapperSummary Reconstruct(Reconstruction* reconstruction);
+
+ private:
+  bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair, MapperSummary* summary);
+  bool RegisterImage(Reconstruction* rec, image_t image_id);
+  size_t TriangulateImage(Reconstruction* rec, image_t image_id);
+  std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
+  void LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary);
+  void GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary, bool retriangulate);
+
+  const CorrespondenceGraph& graph_;
+  std::vector<std::pair<image_t, image_t>> excluded_initial_pairs_;
+  IncrementalMapperOptions options_;
+  std::vector<image_t> registration_order_;
+};
+
+}  // namespace varsfm

@@ -1,0 +1,63 @@
+#include "varsfm/sfm/initial_pair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace varsfm {
+
+std::vector<InitialPairCandidate> RankInitialPairs(
+    const Reconstruction& rec, const CorrespondenceGraph& graph,
+    const std::vector<std::pair<image_t, image_t>>& excluded_pairs,
+    const InitialPairOptions& options) {
+  const std::set<std::pair<image_t, image_t>> excluded(excluded_pairs.begin(),
+                                                       excluded_pairs.end());
+  size_t max_matches = 0;
+  for (const auto& [pair, count] : graph.PairCounts())
+    if (!excluded.count(pair)) max_matches = std::max(max_matches, count);
+  const size_t min_matches = std::max<size_t>(
+      options.min_num_matches, static_cast<size_t>(options.min_matches_fraction * max_matches));
+
+  std::vector<InitialPairCandidate> candidates;
+  for (const auto& [pair, count] : graph.PairCounts()) {
+    if (count < min_matches || excluded.count(pair)) continue;
+    const auto [id1, id2] = pair;
+    const Image& image1 = rec.image(id1);
+    const Image& image2 = rec.image(id2);
+    const Camera& camera1 = rec.CameraOf(id1);
+    const double diagonal = std::hypot(camera1.width, camera1.height);
+    // Disparity of each match, as in the paper's disparity matrix (eqs. 6-7).
+    double sum = 0, sum_sq = 0;
+    const FeatureMatches matches = graph.MatchesBetween(id1, id2);
+    for (const auto& m : matches) {
+      const double d =
+          (image2.points2D[m.point2D_idx2].xy - image1.points2D[m.point2D_idx1].xy).norm() /
+          diagonal;
+      sum += d;
+      sum_sq += d * d;
+    }
+    const double n = static_cast<double>(matches.size());
+    InitialPairCandidate c;
+    c.image_id1 = id1;
+    c.image_id2 = id2;
+    c.num_matches = matches.size();
+    c.disparity_mean = sum / n;
+    c.disparity_std = std::sqrt(std::max(0.0, sum_sq / n - c.disparity_mean * c.disparity_mean));
+    candidates.push_back(c);
+  }
+  double max_mean = 0, max_std = 0;
+  for (const auto& c : candidates) {
+    max_mean = std::max(max_mean, c.disparity_mean);
+    max_std = std::max(max_std, c.disparity_std);
+  }
+  for (auto& c : candidates)
+    c.score = (max_mean > 0 ? c.disparity_mean / max_mean : 0) *
+              (max_std > 0 ? c.disparity_std / max_std : 0);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return std::tie(a.image_id1, a.image_id2) < std::tie(b.image_id1, b.image_id2);
+  });
+  return candidates;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,39 @@
+#pragma once
+// Choice of the two images the reconstruction starts from (El Hazzat et al., section 3.4): many
+// matches and a large camera motion. The paper's disparity-matrix criterion: for candidate pairs,
+// D_M = mean and D_S = standard deviation of the match disparities |x2 - x1| (normalised by the
+// image diagonal); the pair maximising (D_M / max D_M) * (D_S / max D_S) is chosen. A large mean
+// says the camera moved; a large spread says the disparities vary with depth, i.e. there is
+// parallax rather than a rotation or a plane (both give smooth, homography-like disparities).
+// varsfm adds what the criterion alone misses: a minimum number of verified matches, and pairs
+// the matcher flagged as planar/panoramic (explained by a homography) are never candidates.
+#include <vector>
+
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/sfm/correspondence_graph.h"
+
+namespace varsfm {
+
+struct InitialPairOptions {
+  int min_num_matches = 100;
+  // Candidates need at least this fraction of the best pair's match count ("many matches").
+  double min_matches_fraction = 0.25;
+};
+
+struct InitialPairCandidate {
+  image_t image_id1 = kInvalidImageId;
+  image_t image_id2 = kInvalidImageId;
+  size_t num_matches = 0;
+  double disparity_mean = 0;  // D_M, fraction of the image diagonal
+  double disparity_std = 0;   // D_S
+  double score = 0;           // normalised D_M * D_S
+};
+
+// Candidates sorted by decreasing score. `excluded_pairs` (planar/panoramic pairs) and
+// `registered` images are skipped. Deterministic: ties broken by image ids.
+std::vector<InitialPairCandidate> RankInitialPairs(
+    const Reconstruction& reconstruction, const CorrespondenceGraph& graph,
+    const std::vector<std::pair<image_t, image_t>>& excluded_pairs,
+    const InitialPairOptions& options);
+
+}  // namespace varsfm

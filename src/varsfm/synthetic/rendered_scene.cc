@@ -1,0 +1,180 @@
+#include "varsfm/synthetic/rendered_scene.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// A textured rectangle: origin + s * u + t * v for s, t in [0, 1].
+struct TexturedQuad {
+  Eigen::Vector3d origin, u, v;
+  cv::Mat texture;  // CV_32FC3, BGR in [0, 255]
+};
+
+// Texture with structure at several scales: smooth colour noise plus random discs and
+// rectangles, so that every part of a face has distinctive SIFT keypoints.
+cv::Mat MakeTexture(int size, Rng& rng) {
+  cv::Mat texture(size, size, CV_32FC3, cv::Scalar::all(0));
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int octave = 4; octave <= 64; octave *= 2) {
+    cv::Mat coarse(octave, octave, CV_32FC3);
+    for (int y = 0; y < octave; ++y)
+      for (int x = 0; x < octave; ++x)
+        coarse.at<cv::Vec3f>(y, x) = cv::Vec3f(unit(rng), unit(rng), unit(rng)) * (200.0f / 5);
+    cv::Mat up;
+    cv::resize(coarse, up, texture.size(), 0, 0, cv::INTER_CUBIC);
+    texture += up;
+  }
+  cv::Mat shapes(size, size, CV_8UC3, cv::Scalar::all(0));
+  for (int i = 0; i < size / 2; ++i) {
+    const cv::Point centre(static_cast<int>(unit(rng) * size), static_cast<int>(unit(rng) * size));
+    const cv::Scalar colour(255 * unit(rng), 255 * unit(rng), 255 * unit(rng));
+    const int radius = 2 + static_cast<int>(std::pow(unit(rng), 2) * size / 24);
+    if (i % 3 == 0)
+      cv::rectangle(shapes, centre, centre + cv::Point(radius, radius * 2), colour, cv::FILLED);
+    else
+      cv::circle(shapes, centre, radius, colour, cv::FILLED, cv::LINE_AA);
+  }
+  cv::Mat shapes_f;
+  shapes.convertTo(shapes_f, CV_32FC3);
+  cv::Mat mask;
+  cv::cvtColor(shapes, mask, cv::COLOR_BGR2GRAY);
+  shapes_f.copyTo(texture, mask > 0);
+  return texture;
+}
+
+std::vector<TexturedQuad> MakeScene(Rng& rng) {
+  std::vector<TexturedQuad> quads;
+  const auto add = [&](Eigen::Vector3d o, Eigen::Vector3d u, Eigen::Vector3d v) {
+    quads.push_back({o, u, v, MakeTexture(512, rng)});
+  };
+  // World: y points down, the cameras look along +z. Room corner.
+  add({-2.5, -1.8, 2.0}, {7.0, 0, 0}, {0, 3.0, 0});    // back wall (z = 2)
+  add({-2.5, 1.2, -2.0}, {7.0, 0, 0}, {0, 0, 4.0});    // floor (y = 1.2)
+  add({-2.5, -1.8, -2.0}, {0, 0, 4.0}, {0, 3.0, 0});   // left wall (x = -2.5)
+  // Two boxes standing on the floor: their visible faces.
+  const auto box = [&](Eigen::Vector3d c, Eigen::Vector3d half) {
+    const Eigen::Vector3d lo = c - half, hi = c + half;
+    add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, hi.y() - lo.y(), 0});  // front
+    add({lo.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // left
+    add({hi.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // right
+    add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, 0, hi.z() - lo.z()});  // top
+  };
+  box({-0.6, 0.7, 0.6}, {0.5, 0.5, 0.5});
+  box({0.9, 0.9, 0.1}, {0.35, 0.3, 0.35});
+  return quads;
+}
+
+cv::Vec3f Bilinear(const cv::Mat& texture, double x, double y) {
+  const int x0 = std::min(static_cast<int>(x), texture.cols - 2);
+  const int y0 = std::min(static_cast<int>(y), texture.rows - 2);
+  const float ax = static_cast<float>(x - x0), ay = static_cast<float>(y - y0);
+  const cv::Vec3f* row0 = texture.ptr<cv::Vec3f>(y0);
+  const cv::Vec3f* row1 = texture.ptr<cv::Vec3f>(y0 + 1);
+  return (1 - ay) * ((1 - ax) * row0[x0] + ax * row0[x0 + 1]) +
+         ay * ((1 - ax) * row1[x0] + ax * row1[x0 + 1]);
+}
+
+// Colour seen along a ray (nearest quad), black when nothing is hit.
+cv::Vec3f Trace(const std::vector<TexturedQuad>& quads, const Eigen::Vector3d& origin,
+                const Eigen::Vector3d& dir) {
+  double best = std::numeric_limits<double>::infinity();
+  cv::Vec3f colour(0, 0, 0);
+  for (const auto& q : quads) {
+    const Eigen::Vector3d n = q.u.cross(q.v);
+    const double denom = n.dot(dir);
+    if (std::abs(denom) < 1e-12) continue;
+    const double t = n.dot(q.origin - origin) / denom;
+    if (t <= 1e-6 || t >= best) continue;
+    const Eigen::Vector3d p = origin + t * dir - q.origin;
+    const double s = p.dot(q.u) / q.u.squaredNorm(), r = p.dot(q.v) / q.v.squaredNorm();
+    if (s < 0 || s > 1 || r < 0 || r > 1) continue;
+    best = t;
+    colour = Bilinear(q.texture, s * (q.texture.cols - 1), r * (q.texture.rows - 1));
+  }
+  return colour;
+}
+
+}  // namespace
+
+RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
+  if (o.num_images < 2 || o.width < 64 || o.height < 64) Fail("demo scene: bad render options");
+  Rng rng(o.seed);
+  const std::vector<TexturedQuad> quads = MakeScene(rng);
+  RenderedScene scene;
+  std::uniform_real_distribution<double> jitter(-0.15, 0.15);
+  for (int i = 0; i < o.num_images; ++i) {
+    const double t = static_cast<double>(i) / (o.num_images - 1);
+    const double a = (t - 0.5) * o.arc_degrees * std::numbers::pi / 180.0;
+    const double radius = 4.0;
+    const Eigen::Vector3d target(0.1 + jitter(rng), 0.2 + jitter(rng), 0.8 + jitter(rng));
+    const Eigen::Vector3d centre(radius * std::sin(a), -0.6 - 0.3 * std::sin(2 * a),
+                                 0.8 - radius * std::cos(a));
+    Camera camera = Camera::FromFocal(o.width, o.height, o.focal_start * (1 + t * (o.zoom - 1)));
+    camera.camera_id = static_cast<camera_t>(i + 1);
+    camera.params[Camera::kK1] = o.k1;
+    const Rigid3d pose = LookAt(centre, target);
+    const Eigen::Matrix3d world_from_cam = pose.R().transpose();
+
+    cv::Mat image(o.height, o.width, CV_8UC3);
+    const int ss = std::max(1, o.supersampling);
+    cv::parallel_for_(cv::Range(0, o.height), [&](const cv::Range& rows) {
+      for (int y = rows.start; y < rows.end; ++y) {
+        for (int x = 0; x < o.width; ++x) {
+          cv::Vec3f sum(0, 0, 0);
+          for (int sy = 0; sy < ss; ++sy)
+            for (int sx = 0; sx < ss; ++sx) {
+              // varsfm pixel convention: pixel (x, y) covers [x, x+1) x [y, y+1).
+              const Eigen::Vector2d pixel(x + (sx + 0.5) / ss, y + (sy + 0.5) / ss);
+              const Eigen::Vector2d n = camera.ImageToNormalized(pixel);
+              sum += Trace(quads, centre, world_from_cam * n.homogeneous());
+            }
+          sum *= 1.0f / (ss * ss);
+          image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(sum[0]),
+                                                cv::saturate_cast<uchar>(sum[1]),
+                                                cv::saturate_cast<uchar>(sum[2]));
+        }
+      }
+    });
+    scene.images.push_back(image);
+    scene.cameras.push_back(camera);
+    scene.poses.push_back(pose);
+  }
+  return scene;
+}
+
+void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path& image_dir,
+                        const std::filesystem::path& gt_dir) {
+  std::filesystem::create_directories(image_dir);
+  std::filesystem::create_directories(gt_dir);
+  for (size_t i = 0; i < scene.images.size(); ++i) {
+    const std::string name = fmt::format("image_{:04d}.png", i);
+    if (!cv::imwrite((image_dir / name).string(), scene.images[i]))
+      Fail("cannot write {}", (image_dir / name).string());
+    const Camera& c = scene.cameras[i];
+    Eigen::Matrix3d K = c.K();
+    K(0, 2) -= 0.5;  // Strecha's convention: the centre of the top-left pixel is (0, 0)
+    K(1, 2) -= 0.5;
+    const Eigen::Matrix3d R = scene.poses[i].R().transpose();  // camera-to-world
+    const Eigen::Vector3d C = scene.poses[i].Center();
+    std::ofstream out(gt_dir / (name + ".camera"));
+    out.precision(17);
+    for (int r = 0; r < 3; ++r) out << K(r, 0) << " " << K(r, 1) << " " << K(r, 2) << "\n";
+    out << c.params[Camera::kK1] << " " << c.params[Camera::kK2] << " 0\n";  // radial distortion
+    for (int r = 0; r < 3; ++r) out << R(r, 0) << " " << R(r, 1) << " " << R(r, 2) << "\n";
+    out << C.x() << " " << C.y() << " " << C.z() << "\n";
+    out << c.width << " " << c.height << "\n";
+    if (!out) Fail("cannot write {}", (gt_dir / (name + ".camera")).string());
+  }
+}
+
+}  // namespace varsfm

@@ -1,0 +1,43 @@
+#pragma once
+// A synthetic textured scene rendered as photographs, with exact ground truth: the built-in
+// demo input. A room corner (back wall, floor, side wall) and two boxes, every face covered by
+// a procedural texture with blobs at several scales (what SIFT responds to), filmed along an
+// orbit by a camera that zooms (focal length x1.0 -> x1.6) and has mild radial distortion.
+#include <filesystem>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "varsfm/camera/camera.h"
+#include "varsfm/geometry/rigid3.h"
+#include "varsfm/util/random.h"
+
+namespace varsfm {
+
+struct RenderedSceneOptions {
+  int num_images = 12;
+  int width = 800;
+  int height = 600;
+  double focal_start = 640.0;
+  double zoom = 1.6;  // the last image's focal length is zoom x focal_start
+  double k1 = -0.03;
+  double arc_degrees = 50.0;
+  int supersampling = 2;  // per axis
+  uint64_t seed = kDefaultSeed;
+};
+
+struct RenderedScene {
+  std::vector<cv::Mat> images;  // BGR, 8-bit
+  std::vector<Camera> cameras;
+  std::vector<Rigid3d> poses;  // cam_from_world
+};
+
+RenderedScene RenderSyntheticScene(const RenderedSceneOptions& options);
+
+// Writes images as IMAGE_0000.png ... into `image_dir` and the ground truth in the Strecha
+// layout (NAME.camera: K, 0 0 0, R camera-to-world, C, width height; K in Strecha's convention,
+// pixel centre at (0, 0)) into `gt_dir`.
+void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path& image_dir,
+                        const std::filesystem::path& gt_dir);
+
+}  // namespace varsfm

@@ -1,0 +1,257 @@
+#include "varsfm/ba/bundle_adjuster.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "support/synthetic_reconstruction.h"
+#include "varsfm/synthetic/synthetic_scene.h"
+
+namespace varsfm {
+namespace {
+
+using testing::ReconstructionFromSynthetic;
+
+// A 15-image orbit with a zoom sweep 800 -> 1280 px and 0.5 px noise (the brief's setting).
+SyntheticOptions ZoomScene(uint64_t seed = 7) {
+  SyntheticOptions o;
+  o.num_images = 15;
+  o.num_points = 1500;
+  o.focal_start = 800.0;
+  o.focal_end = 1280.0;
+  o.noise_sigma = 0.5;
+  o.seed = seed;
+  return o;
+}
+
+// Moves every pose (~0.5 deg, ~2 % of the orbit radius), point (~2 % of the scene extent) and
+// focal length (up to 5 %) off the truth, as an incremental mapper would hand them over.
+void Perturb(Reconstruction* rec, uint64_t seed, const std::set<image_t>& only = {}) {
+  Rng rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (const image_t id : rec->RegisteredImageIds()) {
+    if (!only.empty() && !only.count(id)) continue;
+    Rigid3d& pose = rec->image(id).cam_from_world;
+    const Eigen::Vector3d axis(n(rng), n(rng), n(rng));
+    pose.rotation = Eigen::AngleAxisd(0.5 * M_PI / 180.0, axis.normalized()) * pose.rotation;
+    pose.translation += 0.1 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+    rec->CameraOf(id).focal() *= 1.0 + u(rng);
+  }
+  for (auto& [id, point] : rec->points3D())
+    point.xyz += 0.02 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+}
+
+// The expected RMS of the 2D reprojection error (the norm, as BundleAdjustmentSummary and
+// Reconstruction report it) at the least-squares optimum with Gaussian noise sigma per
+// coordinate: sigma * sqrt(2) * sqrt((m - p) / m), m scalar residuals, p free parameters (gauge
+// removed).
+double NoiseFloor(const Reconstruction& rec, int free_intrinsics_per_camera, double sigma) {
+  const double m = 2.0 * rec.NumObservations();
+  const double p = 3.0 * rec.points3D().size() + 6.0 * rec.NumRegisteredImages() - 7.0 +
+                   free_intrinsics_per_camera * rec.cameras().size();
+  return sigma * std::sqrt(2.0 * (m - p) / m);
+}
+
+double MaxFocalError(const Reconstruction& rec, const SyntheticScene& scene) {
+  double worst = 0.0;
+  for (int i = 0; i < scene.NumImages(); ++i)
+    worst = std::max(worst, std::abs(rec.camera(i + 1).focal() / scene.cameras[i].focal() - 1.0));
+  return worst;
+}
+
+bool SameBits(const double* a, const double* b, size_t n) {
+  return std::memcmp(a, b, n * sizeof(double)) == 0;
+}
+
+TEST(BundleAdjuster, GlobalReachesNoiseFloorAndRecoversZoomFocals) {
+  const SyntheticScene scene = GenerateSyntheticScene(ZoomScene());
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  Perturb(&rec, 1);
+  const Rigid3d first_pose = rec.image(1).cam_from_world;
+  const BundleAdjustmentSummary s =
+      RunBundleAdjustment({}, BundleAdjustmentConfig::Global(rec), &rec);
+  ASSERT_TRUE(s.success) << s.report;
+  EXPECT_GT(s.initial_rms_px, 10.0);
+  const double floor = NoiseFloor(rec, 3, 0.5);  // f, k1, k2 free
+  EXPECT_NEAR(s.final_rms_px, floor, 0.1 * floor) << s.report;
+  EXPECT_LT(MaxFocalError(rec, scene), 0.01);
+  // Gauge: the first image's pose is held exactly.
+  EXPECT_TRUE(SameBits(first_pose.rotation.coeffs().data(),
+                       rec.image(1).cam_from_world.rotation.coeffs().data(), 4));
+  EXPECT_TRUE(
+      SameBits(first_pose.translation.data(), rec.image(1).cam_from_world.translation.data(), 3));
+}
+
+// The largest radial displacement difference (px) between two distortion profiles of a camera,
+// over normalised radii out to the image corner: k1 and k2 are correlated over a finite field
+// of view, so the profile is what the data pin down.
+double DistortionProfileError(const Camera& estimate, const Camera& truth) {
+  const double r_max = Eigen::Vector2d(truth.width, truth.height).norm() / 2.0 / truth.focal();
+  double worst = 0.0;
+  for (int i = 1; i <= 50; ++i) {
+    const double r = r_max * i / 50.0, r2 = r * r;
+    const auto radial = [&](const Camera& c) {
+      return c.params[Camera::kK1] * r2 + c.params[Camera::kK2] * r2 * r2;
+    };
+    worst = std::max(worst, truth.focal() * r * std::abs(radial(estimate) - radial(truth)));
+  }
+  return worst;
+}
+
+// Per-image k1 = -0.1, k2 = 0.02 started at 0: each image's distortion profile is recovered to
+// a fraction of a pixel at the image corner, and a lens shared by all images to tight k1, k2.
+TEST(BundleAdjuster, RecoversRadialDistortionFromZero) {
+  SyntheticOptions o = ZoomScene(11);
+  o.k1 = -0.1;
+  o.k2 = 0.02;
+  for (const bool shared : {false, true}) {
+    if (shared) o.focal_start = o.focal_end = 1000.0;
+    const SyntheticScene scene = GenerateSyntheticScene(o);
+    Reconstruction rec = ReconstructionFromSynthetic(scene);
+    if (shared)
+      for (const image_t id : rec.RegisteredImageIds()) rec.image(id).camera_id = 1;
+    Perturb(&rec, 2);
+    for (const image_t id : rec.RegisteredImageIds()) {
+      rec.CameraOf(id).params[Camera::kK1] = 0.0;
+      rec.CameraOf(id).params[Camera::kK2] = 0.0;
+    }
+    const BundleAdjustmentSummary s =
+        RunBundleAdjustment({}, BundleAdjustmentConfig::Global(rec), &rec);
+    ASSERT_TRUE(s.success) << s.report;
+    const double floor = NoiseFloor(rec, 3, 0.5);
+    EXPECT_NEAR(s.final_rms_px, floor, 0.1 * floor);
+    EXPECT_LT(MaxFocalError(rec, scene), 0.01);
+    double worst_profile = 0.0;
+    for (const image_t id : rec.RegisteredImageIds())
+      worst_profile =
+          std::max(worst_profile, DistortionProfileError(rec.CameraOf(id), scene.cameras[id - 1]));
+    const Camera& c = rec.CameraOf(1);
+    std::printf("shared %d: k1 %.4f k2 %.4f (camera 1), worst profile error %.3f px\n", shared,
+                c.params[Camera::kK1], c.params[Camera::kK2], worst_profile);
+    EXPECT_LT(worst_profile, shared ? 0.2 : 1.0);
+    if (shared) {
+      EXPECT_NEAR(c.params[Camera::kK1], -0.1, 0.005);
+      EXPECT_NEAR(c.params[Camera::kK2], 0.02, 0.01);
+    }
+  }
+}
+
+TEST(BundleAdjuster, LocalLeavesConstantImagesBitForBitUntouched) {
+  const SyntheticScene scene = GenerateSyntheticScene(ZoomScene(3));
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  const std::vector<image_t> variable = {13, 14, 15};
+  Perturb(&rec, 3, {variable.begin(), variable.end()});
+  const BundleAdjustmentConfig config = BundleAdjustmentConfig::Local(rec, variable);
+  EXPECT_GE(config.constant_pose_images.size(), 5u);
+  EXPECT_EQ(config.constant_cameras.size(), config.constant_pose_images.size());
+  const Reconstruction before = rec;
+  const BundleAdjustmentSummary s = RunBundleAdjustment({}, config, &rec);
+  ASSERT_TRUE(s.success) << s.report;
+  EXPECT_LT(s.final_rms_px, 0.75);
+  for (const image_t id : config.constant_pose_images) {
+    const Rigid3d& a = before.image(id).cam_from_world;
+    const Rigid3d& b = rec.image(id).cam_from_world;
+    EXPECT_TRUE(SameBits(a.rotation.coeffs().data(), b.rotation.coeffs().data(), 4)) << id;
+    EXPECT_TRUE(SameBits(a.translation.data(), b.translation.data(), 3)) << id;
+    EXPECT_TRUE(SameBits(before.CameraOf(id).params.data(), rec.CameraOf(id).params.data(),
+                         Camera::kNumParams))
+        << id;
+  }
+  // The variable images were pulled back to the truth: the constant ones fix the gauge.
+  for (const image_t id : variable) {
+    EXPECT_LT((rec.image(id).Center() - scene.poses[id - 1].Center()).norm(), 0.01);
+    EXPECT_NEAR(rec.CameraOf(id).focal(), scene.cameras[id - 1].focal(),
+                0.01 * scene.cameras[id - 1].focal());
+  }
+}
+
+TEST(BundleAdjuster, HeldIntrinsicsStayExactly) {
+  const SyntheticScene scene = GenerateSyntheticScene(ZoomScene(5));
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  Perturb(&rec, 5);
+  const Reconstruction before = rec;
+  BundleAdjustmentOptions options;
+  options.intrinsics.refine_k1 = options.intrinsics.refine_k2 = false;  // focal only
+  ASSERT_TRUE(RunBundleAdjustment(options, BundleAdjustmentConfig::Global(rec), &rec).success);
+  for (const auto& [id, camera] : rec.cameras()) {
+    const Camera& old = before.camera(id);
+    EXPECT_NE(camera.focal(), old.focal());
+    for (int k = Camera::kAspect; k < Camera::kNumParams; ++k)
+      EXPECT_TRUE(SameBits(&camera.params[k], &old.params[k], 1)) << "camera " << id << " " << k;
+  }
+  // Every intrinsic held: the camera blocks are constant.
+  options.intrinsics = {false, false, false, false, false, false};
+  Reconstruction rec2 = before;
+  ASSERT_TRUE(RunBundleAdjustment(options, BundleAdjustmentConfig::Global(rec2), &rec2).success);
+  for (const auto& [id, camera] : rec2.cameras())
+    EXPECT_TRUE(SameBits(camera.params.data(), before.camera(id).params.data(), 7));
+}
+
+TEST(BundleAdjuster, SharedCameraIsOneParameterBlock) {
+  SyntheticOptions o = ZoomScene(9);
+  o.focal_start = o.focal_end = 1000.0;  // one fixed-focal camera for every image
+  const SyntheticScene scene = GenerateSyntheticScene(o);
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  for (const image_t id : rec.RegisteredImageIds()) rec.image(id).camera_id = 1;
+  Perturb(&rec, 9);
+  rec.camera(1).focal() = 1100.0;
+  const Reconstruction before = rec;
+  const BundleAdjustmentSummary s =
+      RunBundleAdjustment({}, BundleAdjustmentConfig::Global(rec), &rec);
+  ASSERT_TRUE(s.success) << s.report;
+  EXPECT_NEAR(rec.camera(1).focal(), 1000.0, 2.0);
+  EXPECT_LT(s.final_rms_px, 1.1 * NoiseFloor(rec, 3, 0.5));
+  for (camera_t id = 2; id <= 15; ++id)  // unused cameras are not in the problem
+    EXPECT_TRUE(SameBits(rec.camera(id).params.data(), before.camera(id).params.data(), 7));
+}
+
+// Gross outliers (uniform random pixels) on 5 % of the observations: the robust losses keep the
+// zoom focals within 1 % while the squared loss is dragged off.
+class RobustLoss : public ::testing::TestWithParam<BundleAdjustmentOptions::Loss> {};
+
+TEST_P(RobustLoss, FivePercentOutliers) {
+  SyntheticOptions o = ZoomScene(13);
+  o.outlier_ratio = 0.05;
+  const SyntheticScene scene = GenerateSyntheticScene(o);
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  Perturb(&rec, 13);
+  BundleAdjustmentOptions options;
+  options.loss = GetParam();
+  const BundleAdjustmentSummary s =
+      RunBundleAdjustment(options, BundleAdjustmentConfig::Global(rec), &rec);
+  ASSERT_TRUE(s.success) << s.report;
+  // RMS over the inlier observations only.
+  double sum = 0;
+  size_t n = 0;
+  for (const auto& [pid, point] : rec.points3D())
+    for (const TrackElement& el : point.track)
+      if (!scene.observations[el.image_id - 1][el.point2D_idx].outlier) {
+        sum += rec.SquaredReprojectionError(el, point.xyz);
+        ++n;
+      }
+  const double inlier_rms = std::sqrt(sum / n);
+  const double focal_error = MaxFocalError(rec, scene);
+  std::printf("loss %d: inlier RMS %.3f px, max focal error %.3f %%\n",
+              static_cast<int>(GetParam()), inlier_rms, 100 * focal_error);
+  if (GetParam() == BundleAdjustmentOptions::Loss::kTrivial) {
+    EXPECT_GT(inlier_rms, 1.0);  // the squared loss spreads the outliers over the inliers
+  } else {
+    EXPECT_LT(inlier_rms, 1.1 * NoiseFloor(rec, 3, 0.5));
+    EXPECT_LT(focal_error, 0.01);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Losses, RobustLoss,
+                         ::testing::Values(BundleAdjustmentOptions::Loss::kTrivial,
+                                           BundleAdjustmentOptions::Loss::kHuber,
+                                           BundleAdjustmentOptions::Loss::kCauchy));
+
+TEST(BundleAdjuster, EmptyConfigIsNotASuccess) {
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(ZoomScene()));
+  EXPECT_FALSE(RunBundleAdjustment({}, BundleAdjustmentConfig{}, &rec).success);
+}
+
+}  // namespace
+}  // namespace varsfm

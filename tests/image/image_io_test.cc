@@ -1,0 +1,123 @@
+#include "varsfm/image/image_io.h"
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "support/test_data.h"
+#include "varsfm/image/image_list.h"
+#include "varsfm/image/jpeg_check.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+cv::Mat RandomImage(int width, int height) {
+  cv::Mat image(height, width, CV_8UC3);
+  cv::RNG rng(7);
+  rng.fill(image, cv::RNG::UNIFORM, 0, 256);
+  return image;
+}
+
+std::vector<uint8_t> ReadBytes(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+void WriteBytes(const fs::path& path, const uint8_t* data, size_t size) {
+  std::ofstream file(path, std::ios::binary);
+  file.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+}
+
+void Touch(const fs::path& path) { std::ofstream(path) << "x"; }
+
+TEST(ListImages, SortedRecursiveRelativeNamesOfImageFilesOnly) {
+  testing::TempDir dir("list_images");
+  fs::create_directories(dir.path() / "sub" / "deeper");
+  for (const char* name : {"b.jpg", "a.PNG", "e.jpeg", "notes.txt", "model.ply", "sub/c.tif",
+                           "sub/deeper/d.bmp", "sub/f.TIFF", "noext"}) {
+    Touch(dir.path() / name);
+  }
+  const std::vector<std::string> expected = {
+      "a.PNG", "b.jpg", "e.jpeg", "sub/c.tif", "sub/deeper/d.bmp", "sub/f.TIFF"};
+  EXPECT_EQ(ListImages(dir.path()), expected);
+}
+
+TEST(ListImages, MissingFolderOrFileIsAnError) {
+  testing::TempDir dir("list_images_missing");
+  EXPECT_THROW(ListImages(dir.path() / "absent"), Error);
+  Touch(dir.path() / "a.jpg");
+  EXPECT_THROW(ListImages(dir.path() / "a.jpg"), Error);
+}
+
+TEST(ReadImage, ReadsEveryFormatInGreyAndColour) {
+  testing::TempDir dir("read_formats");
+  const cv::Mat original = RandomImage(64, 48);
+  for (const char* name : {"a.jpg", "a.png", "a.tif", "a.bmp"}) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(cv::imwrite((dir.path() / name).string(), original));
+    const Image color = ReadImage(dir.path() / name, ColorMode::kColor);
+    EXPECT_EQ(color.width(), 64);
+    EXPECT_EQ(color.height(), 48);
+    EXPECT_EQ(color.pixels.type(), CV_8UC3);
+    EXPECT_FALSE(color.exif_focal_px.has_value());
+    const Image gray = ReadImage(dir.path() / name, ColorMode::kGray);
+    EXPECT_EQ(gray.pixels.type(), CV_8UC1);
+    EXPECT_EQ(gray.pixels.size(), color.pixels.size());
+  }
+  // Lossless formats come back exactly.
+  const Image png = ReadImage(dir.path() / "a.png", ColorMode::kColor);
+  EXPECT_EQ(cv::norm(png.pixels, original, cv::NORM_INF), 0.0);
+}
+
+TEST(ReadImage, TextWithAnImageExtensionIsAnErrorNamingTheFile) {
+  testing::TempDir dir("read_text");
+  const fs::path path = dir.path() / "not_an_image.jpg";
+  std::ofstream(path) << "this is text, not a JPEG\n";
+  try {
+    ReadImage(path);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not_an_image.jpg"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line";
+  }
+  EXPECT_THROW(ReadImage(dir.path() / "absent.png"), Error);
+  WriteBytes(dir.path() / "empty.png", nullptr, 0);
+  EXPECT_THROW(ReadImage(dir.path() / "empty.png"), Error);
+}
+
+TEST(ReadImage, TruncatedJpegIsAnError) {
+  testing::TempDir dir("read_truncated");
+  const fs::path full = dir.path() / "full.jpg";
+  ASSERT_TRUE(cv::imwrite(full.string(), RandomImage(200, 150)));
+  const std::vector<uint8_t> bytes = ReadBytes(full);
+  EXPECT_TRUE(IsCompleteJpeg(bytes.data(), bytes.size()));
+  EXPECT_NO_THROW(ReadImage(full));
+
+  // libjpeg would decode the first half and grey-fill the rest without an error.
+  const fs::path half = dir.path() / "half.jpg";
+  WriteBytes(half, bytes.data(), bytes.size() / 2);
+  EXPECT_FALSE(IsCompleteJpeg(bytes.data(), bytes.size() / 2));
+  EXPECT_THROW(ReadImage(half), Error);
+  // Cut just before the end-of-image marker.
+  EXPECT_FALSE(IsCompleteJpeg(bytes.data(), bytes.size() - 2));
+  // Headers only.
+  EXPECT_FALSE(IsCompleteJpeg(bytes.data(), 20));
+}
+
+TEST(ReadImage, TruncatedRealPhotographIsAnError) {
+  VARSFM_REQUIRE_SHARED_DATA(photo, "bundler/kermit/kermit000.jpg");
+  const std::vector<uint8_t> bytes = ReadBytes(photo);
+  EXPECT_TRUE(IsCompleteJpeg(bytes.data(), bytes.size()));
+  for (const size_t cut : {bytes.size() / 4, bytes.size() / 2, bytes.size() - 100}) {
+    EXPECT_FALSE(IsCompleteJpeg(bytes.data(), cut)) << "cut at " << cut;
+  }
+}
+
+}  // namespace
+}  // namespace varsfm

@@ -1,0 +1,116 @@
+#include "varsfm/image/video_keyframes.h"
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "support/test_data.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kFrames = 60;
+constexpr int kStep = 8;  // pixels the view pans per frame
+const std::set<int> kBlurred = {9, 10, 25, 40, 41, 42};
+
+// A scene of random discs and rectangles, wide enough to pan a 320x240 view across it.
+cv::Mat Texture() {
+  cv::Mat texture(240, 320 + kStep * kFrames, CV_8UC3, cv::Scalar(128, 128, 128));
+  cv::RNG rng(11);
+  for (int i = 0; i < 400; ++i) {
+    const cv::Point center(rng.uniform(0, texture.cols), rng.uniform(0, texture.rows));
+    const cv::Scalar color(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
+    if (i % 2 == 0) {
+      cv::circle(texture, center, rng.uniform(3, 20), color, cv::FILLED);
+    } else {
+      cv::rectangle(texture, center, center + cv::Point(rng.uniform(4, 30), rng.uniform(4, 30)),
+                    color, cv::FILLED);
+    }
+  }
+  return texture;
+}
+
+// An MJPG video panning across the texture, with strongly blurred frames at kBlurred.
+fs::path WritePanVideo(const fs::path& path) {
+  const cv::Mat texture = Texture();
+  cv::VideoWriter writer(path.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 25,
+                         cv::Size(320, 240));
+  EXPECT_TRUE(writer.isOpened());
+  for (int i = 0; i < kFrames; ++i) {
+    cv::Mat frame = texture(cv::Rect(i * kStep, 0, 320, 240)).clone();
+    if (kBlurred.count(i)) cv::GaussianBlur(frame, frame, cv::Size(), 4.0);
+    writer.write(frame);
+  }
+  return path;
+}
+
+int FrameIndex(const std::string& name) { return std::stoi(name.substr(6, 6)); }
+
+TEST(VideoKeyframes, DropsBlurredFramesAndSpacesKeyframesByMotion) {
+  testing::TempDir dir("video_keyframes");
+  const fs::path video = WritePanVideo(dir.path() / "pan.avi");
+  KeyframeOptions options;
+  options.min_motion = 0.06;  // 0.06 * 400 px = 24 px: a keyframe every 3 frames of 8 px
+  const KeyframeSummary summary = ExtractKeyframes(video, dir.path() / "frames", options);
+  EXPECT_EQ(summary.frames_read, static_cast<size_t>(kFrames));
+  EXPECT_EQ(summary.frames_blurred, kBlurred.size());
+  ASSERT_GE(summary.names.size(), 10u);
+  EXPECT_LE(summary.names.size(), 25u);
+  int previous = -1;
+  for (const std::string& name : summary.names) {
+    const int index = FrameIndex(name);
+    EXPECT_EQ(kBlurred.count(index), 0u) << "blurred frame kept: " << name;
+    EXPECT_GT(index, previous);
+    // Keyframes are at least the motion threshold apart (24 px = 3 frames).
+    if (previous >= 0) EXPECT_GE(index - previous, 3) << name;
+    previous = index;
+    const cv::Mat written = cv::imread((dir.path() / "frames" / name).string());
+    EXPECT_EQ(written.size(), cv::Size(320, 240)) << name;
+  }
+  EXPECT_EQ(FrameIndex(summary.names.front()), 0);
+}
+
+TEST(VideoKeyframes, MaxFramesSubsamplesEvenlyAndRemovesTheRest) {
+  testing::TempDir dir("video_keyframes_max");
+  const fs::path video = WritePanVideo(dir.path() / "pan.avi");
+  KeyframeOptions options;
+  const KeyframeSummary all = ExtractKeyframes(video, dir.path() / "all", options);
+  options.max_frames = 4;
+  const KeyframeSummary capped = ExtractKeyframes(video, dir.path() / "capped", options);
+  ASSERT_EQ(capped.names.size(), 4u);
+  ASSERT_GT(all.names.size(), 4u);
+  EXPECT_EQ(capped.names.front(), all.names.front());
+  EXPECT_EQ(capped.names.back(), all.names.back());
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path() / "capped")) {
+    ++files;
+    EXPECT_NE(std::find(capped.names.begin(), capped.names.end(), entry.path().filename()),
+              capped.names.end());
+  }
+  EXPECT_EQ(files, 4u);
+}
+
+TEST(VideoKeyframes, UnreadableVideoIsAnErrorAndWritesNothing) {
+  testing::TempDir dir("video_keyframes_bad");
+  EXPECT_THROW(ExtractKeyframes(dir.path() / "absent.avi", dir.path() / "frames", {}), Error);
+  std::ofstream(dir.path() / "text.avi") << "not a video\n";
+  try {
+    ExtractKeyframes(dir.path() / "text.avi", dir.path() / "frames", {});
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("text.avi"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "frames"));
+}
+
+}  // namespace
+}  // namespace varsfm

@@ -1,0 +1,127 @@
+#include "varsfm/io/ply.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "io/synthetic_model.h"
+#include "support/test_data.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+PointCloud TestCloud() {
+  PointCloud cloud;
+  for (int i = 0; i < 50; ++i) {
+    cloud.points.emplace_back(0.1 * i, -2.0 + i, 1e3 + 0.25 * i);
+    cloud.normals.push_back(Eigen::Vector3d(i, 1, 2).normalized());
+    cloud.colors.emplace_back(i, 255 - i, 3 * i);
+  }
+  return cloud;
+}
+
+TEST(Ply, DoubleRoundTripIsExact) {
+  const PointCloud cloud = TestCloud();
+  testing::TempDir tmp("ply_double");
+  WritePly(tmp.path() / "c.ply", cloud, {.double_precision = true});
+  const PointCloud back = ReadPly(tmp.path() / "c.ply");
+  EXPECT_EQ(back.points, cloud.points);
+  EXPECT_EQ(back.normals, cloud.normals);
+  EXPECT_EQ(back.colors, cloud.colors);
+}
+
+TEST(Ply, FloatRoundTripWithinFloatPrecision) {
+  const PointCloud cloud = TestCloud();
+  testing::TempDir tmp("ply_float");
+  WritePly(tmp.path() / "c.ply", cloud);
+  // 50 vertices of 6 floats + 3 bytes after the header: the layout viewers expect.
+  std::ifstream in(tmp.path() / "c.ply", std::ios::binary);
+  std::string header, line;
+  while (std::getline(in, line) && line != "end_header") header += line + "\n";
+  EXPECT_NE(header.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(header.find("element vertex 50"), std::string::npos);
+  EXPECT_NE(header.find("property float x"), std::string::npos);
+  EXPECT_NE(header.find("property uchar red"), std::string::npos);
+  const auto data_start = static_cast<size_t>(in.tellg());
+  EXPECT_EQ(fs::file_size(tmp.path() / "c.ply") - data_start, 50u * (6 * 4 + 3));
+  const PointCloud back = ReadPly(tmp.path() / "c.ply");
+  ASSERT_EQ(back.points.size(), cloud.points.size());
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    EXPECT_LT((back.points[i] - cloud.points[i]).norm(), 1e-7 * cloud.points[i].norm());
+    EXPECT_LT((back.normals[i] - cloud.normals[i]).norm(), 1e-7);
+    EXPECT_EQ(back.colors[i], cloud.colors[i]);
+  }
+}
+
+TEST(Ply, SparseModelPointsWithColoursNoNormals) {
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 100;
+  const Reconstruction rec = testing::ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  testing::TempDir tmp("ply_sparse");
+  WritePly(rec, tmp.path() / "sparse.ply", {.double_precision = true});
+  const PointCloud back = ReadPly(tmp.path() / "sparse.ply");
+  EXPECT_FALSE(back.HasNormals());
+  ASSERT_EQ(back.points.size(), rec.points3D().size());
+  size_t i = 0;
+  for (const auto& [id, point] : rec.points3D()) {
+    EXPECT_EQ(back.points[i], point.xyz);
+    EXPECT_EQ(back.colors[i], point.color);
+    ++i;
+  }
+}
+
+TEST(Ply, ReadsAsciiAndRejectsBadInput) {
+  testing::TempDir tmp("ply_ascii");
+  std::ofstream(tmp.path() / "a.ply") << "ply\nformat ascii 1.0\nelement vertex 2\n"
+                                         "property float x\nproperty float y\nproperty float z\n"
+                                         "property uchar red\nproperty uchar green\n"
+                                         "property uchar blue\nelement face 0\n"
+                                         "property list uchar int vertex_indices\nend_header\n"
+                                         "1 2 3 10 20 30\n4 5 6 40 50 60\n";
+  const PointCloud cloud = ReadPly(tmp.path() / "a.ply");
+  ASSERT_EQ(cloud.points.size(), 2u);
+  EXPECT_EQ(cloud.points[1], Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(cloud.colors[1], (Eigen::Matrix<uint8_t, 3, 1>(40, 50, 60)));
+  std::ofstream(tmp.path() / "b.ply") << "not a ply\n";
+  EXPECT_THROW(ReadPly(tmp.path() / "b.ply"), Error);
+  EXPECT_THROW(ReadPly(tmp.path() / "absent.ply"), Error);
+  PointCloud mismatched = TestCloud();
+  mismatched.colors.pop_back();
+  EXPECT_THROW(WritePly(tmp.path() / "m.ply", mismatched), Error);
+  EXPECT_FALSE(fs::exists(tmp.path() / "m.ply"));
+}
+
+TEST(Ply, ReadsColmapsPlyExport) {
+  if (testing::RunCommand("colmap help") != 0) GTEST_SKIP() << "colmap is not installed; skipping";
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 100;
+  const Reconstruction rec = testing::ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  testing::TempDir tmp("ply_colmap");
+  WriteColmapModel(rec, tmp.path() / "model");
+  std::string output;
+  ASSERT_EQ(testing::RunCommand("colmap model_converter --input_path " +
+                                    (tmp.path() / "model").string() + " --output_path " +
+                                    (tmp.path() / "colmap.ply").string() + " --output_type PLY",
+                                &output),
+            0)
+      << output;
+  const PointCloud back = ReadPly(tmp.path() / "colmap.ply");
+  ASSERT_EQ(back.points.size(), rec.points3D().size());
+  // COLMAP writes its points in hash-map order: find each of ours among them.
+  for (const auto& [id, point] : rec.points3D()) {
+    const auto it = std::find_if(back.points.begin(), back.points.end(), [&](const auto& x) {
+      return (x - point.xyz).norm() < 1e-6 * std::max(1.0, point.xyz.norm());
+    });
+    ASSERT_NE(it, back.points.end()) << "point " << id;
+    EXPECT_EQ(back.colors[it - back.points.begin()], point.color);
+  }
+}
+
+}  // namespace
+}  // namespace varsfm

@@ -1,0 +1,278 @@
+// End to end through the command-line tool: `varsfm extract` on photos, on a video, and on bad
+// input, checked in the workspace database.
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "support/test_data.h"
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/io/database.h"
+#include "varsfm/pipeline/extract.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RunCommand;
+using testing::TempDir;
+using testing::VarsfmBinary;
+
+std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::string Extract(const fs::path& workspace, const std::string& input_args) {
+  return fmt::format("{} extract --workspace {} {}", Quote(VarsfmBinary()), Quote(workspace),
+                     input_args);
+}
+
+std::string FileBytes(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+void CopyKermit(const fs::path& kermit, const fs::path& to, int first, int last) {
+  fs::create_directories(to);
+  for (int i = first; i <= last; ++i) {
+    const std::string name = fmt::format("kermit{:03d}.jpg", i);
+    fs::copy_file(kermit / name, to / name, fs::copy_options::overwrite_existing);
+  }
+}
+
+TEST(ExtractCommand, KermitEveryImageGetsCameraAndRootSiftFeatures) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir dir("extract_kermit");
+  const fs::path workspace = dir.path() / "ws.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(kermit)), &out), 0) << out;
+
+  Database db(workspace);
+  const std::vector<DbImage> images = db.ReadAllImages();
+  ASSERT_EQ(images.size(), 11u);
+  EXPECT_EQ(db.NumCameras(), 11u);  // one camera per image: intrinsics vary
+  std::set<camera_t> cameras;
+  for (size_t i = 0; i < images.size(); ++i) {
+    const DbImage& image = images[i];
+    SCOPED_TRACE(image.name);
+    // Ids follow the names, as COLMAP numbers them.
+    EXPECT_EQ(image.image_id, i + 1);
+    EXPECT_EQ(image.name, fmt::format("kermit{:03d}.jpg", i));
+    cameras.insert(image.camera_id);
+    const auto camera = db.ReadCamera(image.camera_id);
+    ASSERT_TRUE(camera.has_value());
+    EXPECT_EQ(camera->model_id, kColmapSimpleRadial);
+    EXPECT_EQ(camera->width, 640);
+    EXPECT_EQ(camera->height, 480);
+    // The EXIF focal length is a prior (COLMAP 3.8 writes 660.50 px for these photos), the
+    // principal point at the centre and k = 0.
+    EXPECT_TRUE(camera->has_prior_focal_length);
+    ASSERT_EQ(camera->params.size(), 4u);
+    EXPECT_NEAR(camera->params[0], 660.5, 0.01 * 660.5);
+    EXPECT_EQ(camera->params[1], 320.0);
+    EXPECT_EQ(camera->params[2], 240.0);
+    EXPECT_EQ(camera->params[3], 0.0);
+
+    const FeatureKeypoints keypoints = db.ReadKeypoints(image.image_id);
+    const FeatureDescriptors descriptors = db.ReadDescriptors(image.image_id);
+    EXPECT_GT(keypoints.size(), 1000u);
+    EXPECT_LE(keypoints.size(), 8192u);
+    ASSERT_EQ(descriptors.rows(), static_cast<int>(keypoints.size()));
+    ASSERT_EQ(descriptors.cols(), 128);
+    for (const FeatureKeypoint& kp : keypoints) {
+      ASSERT_TRUE(kp.x >= 0 && kp.x <= 640 && kp.y >= 0 && kp.y <= 480) << kp.x << " " << kp.y;
+    }
+    // RootSIFT: each row is a unit vector quantised as 512 x (saturating at 255).
+    for (int r = 0; r < descriptors.rows(); ++r) {
+      double sum = 0;
+      for (int c = 0; c < 128; ++c) sum += std::pow(descriptors(r, c) / 512.0, 2);
+      ASSERT_GT(sum, 0.9) << "row " << r;
+      ASSERT_LT(sum, 1.02) << "row " << r;
+    }
+  }
+  EXPECT_EQ(cameras.size(), 11u);
+}
+
+TEST(ExtractCommand, RerunSkipsExtractedImagesAndAddsNewOnes) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir dir("extract_rerun");
+  const fs::path images = dir.path() / "images";
+  const fs::path workspace = dir.path() / "ws.db";
+  CopyKermit(kermit, images, 0, 2);
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  FeatureKeypoints first;
+  {
+    Database db(workspace);
+    ASSERT_EQ(db.NumImages(), 3u);
+    first = db.ReadKeypoints(1);
+  }
+  // Nothing new: nothing written.
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << out;
+
+  CopyKermit(kermit, images, 3, 4);
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images) + " --threads 1"), &out), 0)
+      << out;
+  EXPECT_NE(out.find("3 of 5 images already extracted"), std::string::npos) << out;
+  Database db(workspace);
+  EXPECT_EQ(db.NumImages(), 5u);
+  EXPECT_EQ(db.NumCameras(), 5u);
+  EXPECT_EQ(db.ReadImageWithName("kermit000.jpg")->image_id, 1u);
+  EXPECT_EQ(db.ReadImageWithName("kermit004.jpg")->image_id, 5u);
+  const FeatureKeypoints again = db.ReadKeypoints(1);
+  ASSERT_EQ(again.size(), first.size());
+  for (size_t i = 0; i < first.size(); ++i) EXPECT_EQ(again[i].x, first[i].x);
+}
+
+TEST(ExtractCommand, UnreadableImagesAreSkippedWithAWarning) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir dir("extract_mixed");
+  const fs::path images = dir.path() / "images";
+  CopyKermit(kermit, images, 0, 1);
+  std::ofstream(images / "text.jpg") << "not an image\n";
+  const std::string jpeg = FileBytes(kermit / "kermit002.jpg");
+  std::ofstream(images / "truncated.jpg", std::ios::binary) << jpeg.substr(0, jpeg.size() / 2);
+  cv::imwrite((images / "tiny.png").string(), cv::Mat(20, 20, CV_8UC1, cv::Scalar(3)));
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "ws.db", "--images " + Quote(images)), &out), 0) << out;
+  for (const char* name : {"text.jpg", "truncated.jpg", "tiny.png"}) {
+    EXPECT_NE(out.find(name), std::string::npos) << name << " not named in:\n" << out;
+  }
+  Database db(dir.path() / "ws.db");
+  EXPECT_EQ(db.NumImages(), 2u);
+}
+
+// A video panning across a textured scene, with blurred frames at `blurred`.
+void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred) {
+  cv::Mat scene(360, 480 + 10 * frames, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::RNG rng(5);
+  for (int i = 0; i < 500; ++i) {
+    const cv::Point center(rng.uniform(0, scene.cols), rng.uniform(0, scene.rows));
+    cv::circle(scene, center, rng.uniform(3, 25),
+               cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256)),
+               cv::FILLED);
+  }
+  cv::VideoWriter writer(path.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 25,
+                         cv::Size(480, 360));
+  ASSERT_TRUE(writer.isOpened());
+  for (int i = 0; i < frames; ++i) {
+    cv::Mat frame = scene(cv::Rect(10 * i, 0, 480, 360)).clone();
+    if (blurred.count(i)) cv::GaussianBlur(frame, frame, cv::Size(), 5.0);
+    writer.write(frame);
+  }
+}
+
+TEST(ExtractCommand, VideoKeyframesAreExtractedAndBlurredFramesDropped) {
+  TempDir dir("extract_video");
+  const fs::path video = dir.path() / "pan.avi";
+  const std::set<int> blurred = {6, 7, 8, 20, 21};
+  WritePanVideo(video, 40, blurred);
+  const fs::path workspace = dir.path() / "scan.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 8"), &out), 0)
+      << out;
+  const fs::path frames = VideoFramesDir(workspace);
+  EXPECT_EQ(frames, dir.path() / "scan_frames");
+  Database db(workspace);
+  const std::vector<DbImage> images = db.ReadAllImages();
+  ASSERT_GE(images.size(), 4u);
+  EXPECT_LE(images.size(), 8u);
+  for (const DbImage& image : images) {
+    SCOPED_TRACE(image.name);
+    ASSERT_EQ(image.name.rfind("frame_", 0), 0u);
+    EXPECT_EQ(blurred.count(std::stoi(image.name.substr(6, 6))), 0u);
+    EXPECT_TRUE(fs::is_regular_file(frames / image.name));
+    EXPECT_GT(db.ReadKeypoints(image.image_id).size(), 100u);
+    // Keyframes carry no EXIF: COLMAP's default focal 1.2 * max(w, h).
+    const auto camera = db.ReadCamera(image.camera_id);
+    EXPECT_FALSE(camera->has_prior_focal_length);
+    EXPECT_EQ(camera->params, (std::vector<double>{576.0, 240.0, 180.0, 0.0}));
+  }
+}
+
+// Bad input: a one-line error, a non-zero exit, and the workspace untouched (or not created).
+class ExtractBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    good_ = dir_.path() / "good";
+    fs::create_directories(good_);
+    cv::Mat image(240, 320, CV_8UC1);
+    cv::RNG(1).fill(image, cv::RNG::UNIFORM, 0, 256);
+    cv::GaussianBlur(image, image, cv::Size(), 2.0);
+    cv::imwrite((good_ / "a.png").string(), image);
+    ASSERT_EQ(RunCommand(Extract(workspace_, "--images " + Quote(good_)), &out_), 0) << out_;
+    before_ = FileBytes(workspace_);
+    ASSERT_FALSE(before_.empty());
+  }
+
+  // Runs extract with `args` on the existing workspace and on a new one.
+  void ExpectFailure(const std::string& args, const std::string& named) {
+    const int rc = RunCommand(Extract(workspace_, args), &out_);
+    EXPECT_NE(rc, 0) << out_;
+    EXPECT_NE(out_.find("error: "), std::string::npos) << out_;
+    EXPECT_NE(out_.find(named), std::string::npos) << out_;
+    EXPECT_EQ(FileBytes(workspace_), before_) << "workspace modified";
+    const fs::path fresh = dir_.path() / "fresh.db";
+    EXPECT_NE(RunCommand(Extract(fresh, args), &out_), 0) << out_;
+    EXPECT_FALSE(fs::exists(fresh)) << "workspace created";
+  }
+
+  TempDir dir_{"extract_bad"};
+  fs::path good_;
+  fs::path workspace_ = dir_.path() / "ws.db";
+  std::string before_;
+  std::string out_;
+};
+
+TEST_F(ExtractBadInput, MissingFolder) {
+  ExpectFailure("--images " + Quote(dir_.path() / "absent"), "absent");
+}
+
+TEST_F(ExtractBadInput, EmptyFolder) {
+  fs::create_directories(dir_.path() / "empty");
+  std::ofstream(dir_.path() / "empty" / "readme.txt") << "no images here\n";
+  ExpectFailure("--images " + Quote(dir_.path() / "empty"), "empty");
+}
+
+TEST_F(ExtractBadInput, OnlyTextAndTruncatedJpegs) {
+  const fs::path bad = dir_.path() / "bad";
+  fs::create_directories(bad);
+  std::ofstream(bad / "text.jpg") << "this is text\n";
+  std::vector<uchar> jpeg;
+  cv::Mat image(240, 320, CV_8UC3);
+  cv::RNG(2).fill(image, cv::RNG::UNIFORM, 0, 256);
+  cv::imencode(".jpg", image, jpeg);
+  std::ofstream(bad / "truncated.jpg", std::ios::binary)
+      .write(reinterpret_cast<const char*>(jpeg.data()),
+             static_cast<std::streamsize>(jpeg.size() / 2));
+  ExpectFailure("--images " + Quote(bad), "no readable image");
+  EXPECT_NE(out_.find("text.jpg"), std::string::npos) << out_;
+  EXPECT_NE(out_.find("truncated.jpg"), std::string::npos) << out_;
+}
+
+TEST_F(ExtractBadInput, UndecodableAndMissingVideo) {
+  std::ofstream(dir_.path() / "bad.avi") << "not a video\n";
+  ExpectFailure("--video " + Quote(dir_.path() / "bad.avi"), "bad.avi");
+  ExpectFailure("--video " + Quote(dir_.path() / "absent.mp4"), "absent.mp4");
+}
+
+// A usage error exits with CLI11's own code (neither 0 nor 1, varsfm's runtime error).
+TEST_F(ExtractBadInput, BothOrNeitherInputIsAUsageError) {
+  for (const std::string& args : {"--images " + Quote(good_) + " --video x.avi", std::string()}) {
+    const int rc = RunCommand(Extract(workspace_, args), &out_);
+    EXPECT_NE(rc, 0) << out_;
+    EXPECT_NE(rc, 1) << out_;
+    EXPECT_NE(out_.find("--images"), std::string::npos) << out_;
+  }
+  EXPECT_EQ(FileBytes(workspace_), before_);
+}
+
+}  // namespace
+}  // namespace varsfm
