@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <fmt/format.h>
@@ -12,13 +13,12 @@
 #include "varsfm/geometry/triangulation.h"
 
 namespace varsfm {
-namespace {
 
-// Bougnoux's focal lengths, or the reason they cannot be trusted.
-std::optional<std::pair<double, double>> ClosedFormFocals(const Eigen::Matrix3d& F,
-                                                          const Camera& c1, const Camera& c2,
-                                                          const TwoViewCalibrationOptions& o,
-                                                          std::string* reason) {
+std::optional<std::pair<double, double>> ClosedFormFocalLengths(
+    const Eigen::Matrix3d& F, int width1, int height1, int width2, int height2,
+    const TwoViewCalibrationOptions& o, std::string* reason) {
+  const Camera c1 = Camera::FromFocal(width1, height1, 1.0);
+  const Camera c2 = Camera::FromFocal(width2, height2, 1.0);
   const Eigen::Vector2d pp1(c1.width / 2.0, c1.height / 2.0);
   const Eigen::Vector2d pp2(c2.width / 2.0, c2.height / 2.0);
   const auto focals = BougnouxFocalLengths(F, pp1, pp2);
@@ -63,8 +63,6 @@ std::optional<std::pair<double, double>> ClosedFormFocals(const Eigen::Matrix3d&
   return focals;
 }
 
-}  // namespace
-
 TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
                                     const std::vector<Eigen::Vector2d>& x2, int width1,
                                     int height1, int width2, int height2,
@@ -77,7 +75,8 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
   c1.camera_id = 1;
   c2.camera_id = 2;
 
-  const auto focals = ClosedFormFocals(F, c1, c2, o, &result.degeneracy_reason);
+  const auto focals =
+      ClosedFormFocalLengths(F, width1, height1, width2, height2, o, &result.degeneracy_reason);
   if (focals) {
     c1.focal() = focals->first;
     c2.focal() = focals->second;

@@ -45,6 +45,13 @@ struct TwoViewCalibration {
   double rms_px = 0;                      // over the valid points after refinement
 };
 
+// Bougnoux's focal lengths (principal points at the centres) when they can be trusted: positive,
+// in the plausible range and insensitive to the principal points; otherwise nullopt and the
+// reason. Cheap: the mapper uses it to rank initial pairs before calibrating one.
+std::optional<std::pair<double, double>> ClosedFormFocalLengths(
+    const Eigen::Matrix3d& F, int width1, int height1, int width2, int height2,
+    const TwoViewCalibrationOptions& options, std::string* reason);
+
 // x1, x2: inlier correspondences (pixels) of a fundamental matrix F (x2^T F x1 = 0).
 TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
                                     const std::vector<Eigen::Vector2d>& x2, int width1,

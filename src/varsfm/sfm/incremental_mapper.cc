@@ -98,23 +98,20 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
     summary.message = "no image pair has enough verified matches to initialise the reconstruction";
     return summary;
   }
+  // Cheap first pass: F and the conditioning of the closed-form focal lengths for the best
+  // candidates; then full calibration of well-conditioned pairs first, in score order.
   const Reconstruction empty = *rec;
-  bool initialized = false;
-  std::optional<InitialPairCandidate> degenerate_fallback;
   const int trials = std::min<int>(options_.max_initial_pair_trials, candidates.size());
-  for (int k = 0; k < trials && !initialized; ++k) {
-    *rec = empty;
-    if (Initialize(rec, candidates[k], &summary)) {
-      if (!summary.initial_calibration_degenerate) {
-        initialized = true;
-      } else if (!degenerate_fallback) {
-        degenerate_fallback = candidates[k];
-      }
+  std::vector<PairGeometry> geometries;
+  for (int k = 0; k < trials; ++k) geometries.push_back(EstimatePairGeometry(*rec, candidates[k]));
+  bool initialized = false;
+  for (const bool want_well_conditioned : {true, false}) {
+    for (int k = 0; k < trials && !initialized; ++k) {
+      if (!geometries[k].success || geometries[k].well_conditioned != want_well_conditioned)
+        continue;
+      *rec = empty;
+      initialized = Initialize(rec, candidates[k], geometries[k], &summary);
     }
-  }
-  if (!initialized && degenerate_fallback) {
-    *rec = empty;
-    initialized = Initialize(rec, *degenerate_fallback, &summary);
   }
   if (!initialized) {
     *rec = empty;
@@ -169,29 +166,44 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   return summary;
 }
 
-bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
-                                   MapperSummary* summary) {
-  const image_t id1 = pair.image_id1, id2 = pair.image_id2;
-  const FeatureMatches matches = graph_.MatchesBetween(id1, id2);
+IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
+    const Reconstruction& rec, const InitialPairCandidate& pair) const {
+  PairGeometry geometry;
+  const FeatureMatches matches = graph_.MatchesBetween(pair.image_id1, pair.image_id2);
   std::vector<Eigen::Vector2d> x1, x2;
   for (const auto& m : matches) {
-    x1.push_back(rec->image(id1).points2D[m.point2D_idx1].xy);
-    x2.push_back(rec->image(id2).points2D[m.point2D_idx2].xy);
+    x1.push_back(rec.image(pair.image_id1).points2D[m.point2D_idx1].xy);
+    x2.push_back(rec.image(pair.image_id2).points2D[m.point2D_idx2].xy);
   }
-  // F re-estimated on the verified matches with a tighter threshold, then refined.
+  // F re-estimated on the verified matches with a tight threshold.
   RansacOptions ransac;
   ransac.max_error = 1.5;
-  ransac.seed = options_.seed;
-  const auto f_report = EstimateFundamentalMatrix(x1, x2, ransac);
-  if (!f_report.success) return false;
+  ransac.seed = DeriveSeed(options_.seed, pair.image_id1 * 65536ull + pair.image_id2);
+  const auto report = EstimateFundamentalMatrix(x1, x2, ransac);
+  if (!report.success) return geometry;
+  geometry.success = true;
+  geometry.F = report.model;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (report.inlier_mask[i]) geometry.inlier_matches.push_back(matches[i]);
+  const Camera& c1 = rec.CameraOf(pair.image_id1);
+  const Camera& c2 = rec.CameraOf(pair.image_id2);
+  std::string reason;
+  geometry.well_conditioned =
+      ClosedFormFocalLengths(geometry.F, c1.width, c1.height, c2.width, c2.height,
+                             TwoViewCalibrationOptions{}, &reason)
+          .has_value();
+  return geometry;
+}
+
+bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
+                                   const PairGeometry& geometry, MapperSummary* summary) {
+  const image_t id1 = pair.image_id1, id2 = pair.image_id2;
+  const FeatureMatches& inlier_matches = geometry.inlier_matches;
   std::vector<Eigen::Vector2d> in1, in2;
-  FeatureMatches inlier_matches;
-  for (size_t i = 0; i < x1.size(); ++i)
-    if (f_report.inlier_mask[i]) {
-      in1.push_back(x1[i]);
-      in2.push_back(x2[i]);
-      inlier_matches.push_back(matches[i]);
-    }
+  for (const auto& m : inlier_matches) {
+    in1.push_back(rec->image(id1).points2D[m.point2D_idx1].xy);
+    in2.push_back(rec->image(id2).points2D[m.point2D_idx2].xy);
+  }
 
   Camera& camera1 = rec->CameraOf(id1);
   Camera& camera2 = rec->CameraOf(id2);
@@ -199,7 +211,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   calib_options.refine_distortion = options_.refine_distortion;
   const TwoViewCalibration calib =
       CalibrateTwoView(in1, in2, camera1.width, camera1.height, camera2.width, camera2.height,
-                       f_report.model, calib_options);
+                       geometry.F, calib_options);
   if (!calib.success) return false;
   debug("initial pair {} {}: f1 {:.1f} f2 {:.1f} degenerate {} ({})", id1, id2,
         calib.camera1.focal(), calib.camera2.focal(), calib.degenerate, calib.degeneracy_reason);
@@ -484,7 +496,8 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_);
   ba.num_threads = options_.num_threads;
-  ba.max_iterations = 50;
+  ba.max_iterations = 25;  // as COLMAP's local BA: the global ones finish the job
+  ba.function_tolerance = options_.local_ba_function_tolerance;
   const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Local(*rec, window), rec);
   debug("local BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
@@ -501,6 +514,8 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_);
   ba.num_threads = options_.num_threads;
+  ba.max_iterations = 50;
+  ba.function_tolerance = options_.global_ba_function_tolerance;
   const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
   debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,

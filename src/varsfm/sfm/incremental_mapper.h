@@ -33,6 +33,10 @@ struct IncrementalMapperOptions {
   double init_min_median_angle_deg = 3.0;
 
   int local_ba_images = 3;          // m0 of the paper
+  // Local adjustments stop at this relative cost decrease (Ceres' function tolerance): they
+  // only need to keep the new images consistent, the global ones reach the minimum.
+  double local_ba_function_tolerance = 1e-3;
+  double global_ba_function_tolerance = 1e-5;
   int first_global_ba_images = 13;  // M0 of the paper (10..20)
   // Beyond the paper: a further global BA each time the model has grown by this factor since
   // the last one (0 disables: the paper's schedule).
@@ -95,7 +99,17 @@ class IncrementalMapper {
   MapperSummary Reconstruct(Reconstruction* reconstruction);
 
  private:
-  bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair, MapperSummary* summary);
+  // The pair's verified matches re-verified by F (LO-RANSAC): F and its inlier matches.
+  struct PairGeometry {
+    bool success = false;
+    Eigen::Matrix3d F;
+    FeatureMatches inlier_matches;
+    bool well_conditioned = false;  // Bougnoux's closed form can be trusted for this pair
+  };
+  PairGeometry EstimatePairGeometry(const Reconstruction& rec,
+                                    const InitialPairCandidate& pair) const;
+  bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
+                  const PairGeometry& geometry, MapperSummary* summary);
   bool RegisterImage(Reconstruction* rec, image_t image_id);
   size_t TriangulateImage(Reconstruction* rec, image_t image_id);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
