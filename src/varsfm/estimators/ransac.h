@@ -55,7 +55,8 @@ struct Score {
 
 template <typename Estimator>
 Score Evaluate(const Estimator& estimator, const typename Estimator::Model& model,
-               double threshold2, bool msac) {
+               double threshold2, bool msac,
+               double bound = std::numeric_limits<double>::infinity()) {
   Score score;
   const size_t n = estimator.NumData();
   double cost = 0, inlier_sum = 0;
@@ -68,6 +69,9 @@ Score Evaluate(const Estimator& estimator, const typename Estimator::Model& mode
     } else {
       cost += threshold2;
     }
+    // The MSAC cost only grows, so a model already worse than the best one can stop here
+    // (the result is unchanged; most hypotheses are rejected after a fraction of the data).
+    if (msac && cost > bound) return Score{};
   }
   score.cost = msac ? cost
                     : -static_cast<double>(score.num_inliers) +
@@ -121,7 +125,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
   std::vector<Model> models;
 
   const auto consider = [&](const Model& model) {
-    const Score score = ransac_internal::Evaluate(estimator, model, threshold2, msac);
+    const Score score = ransac_internal::Evaluate(estimator, model, threshold2, msac, best.cost);
     if (score.cost < best.cost) {
       best = score;
       best_model = model;

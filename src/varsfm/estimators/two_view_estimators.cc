@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include <Eigen/Geometry>
+
 #include "varsfm/estimators/essential_5pt.h"
 #include "varsfm/estimators/fundamental_7pt.h"
 #include "varsfm/estimators/fundamental_8pt.h"

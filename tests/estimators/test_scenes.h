@@ -1,0 +1,40 @@
+#pragma once
+// Shared synthetic data for the estimator tests.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsfm/synthetic/synthetic_scene.h"
+
+namespace varsfm::testing {
+
+struct Matches {
+  std::vector<Eigen::Vector2d> x1, x2;
+  std::vector<char> outlier;  // ground-truth outlier flag (either observation is an outlier)
+};
+
+inline Matches PairMatches(const SyntheticScene& scene, int i, int j) {
+  Matches m;
+  std::vector<int> ids;
+  scene.Correspondences(i, j, &m.x1, &m.x2, &ids);
+  std::vector<char> out_i(scene.points.size(), 0), out_j(scene.points.size(), 0);
+  for (const auto& o : scene.observations[i]) out_i[o.point_id] = o.outlier;
+  for (const auto& o : scene.observations[j]) out_j[o.point_id] = o.outlier;
+  for (const int id : ids) m.outlier.push_back(out_i[id] || out_j[id]);
+  return m;
+}
+
+// Recall and precision of an inlier mask against the ground-truth flags.
+inline void InlierQuality(const std::vector<char>& mask, const std::vector<char>& outlier,
+                          double* recall, double* precision) {
+  int tp = 0, fp = 0, fn = 0;
+  for (size_t k = 0; k < mask.size(); ++k) {
+    if (mask[k] && !outlier[k]) ++tp;
+    if (mask[k] && outlier[k]) ++fp;
+    if (!mask[k] && !outlier[k]) ++fn;
+  }
+  *recall = tp / static_cast<double>(tp + fn);
+  *precision = tp / static_cast<double>(tp + fp);
+}
+
+}  // namespace varsfm::testing
