@@ -1,15 +1,7 @@
 #pragma once
-// Closed-form focal lengths of two views from their fundamental matrix when the principal
-// points are known, the aspect ratio is 1 and the skew 0 (S. Bougnoux, "From projective to
-// Euclidean space under any practical situation, a criticism of self-calibration", ICCV 1998;
-// Hartley & Zisserman 2nd ed., exercise in chapter 19). With I~ = diag(1, 1, 0), e2 the
-// epipole in image 2 (F^T e2 = 0) and p1, p2 the principal points (homogeneous):
-//
-//   f1^2 = - (p2^T [e2]x I~ F p1) (p1^T F^T p2) / (p2^T [e2]x I~ F I~ F^T p2)
-//
-// and f2^2 by the same formula on F^T with the roles of the images swapped. The formula is
-// singular when the optical axes are coplanar (p2^T F p1 = 0: the principal points are in
-// epipolar correspondence), the classic degenerate configuration of two-view self-calibration.
+// Closed-form focal lengths from a fundamental matrix (Bougnoux, "From projective to Euclidean
+// space under any practical situation", ICCV 1998), used by varsfm's two-view self-calibration
+// instead of the paper's linear system (docs/self_calibration.md explains why).
 #include <optional>
 #include <utility>
 
@@ -17,19 +9,19 @@
 
 namespace varsfm {
 
-// Squared focal lengths (pixels^2); they may be negative for noisy or degenerate data.
-std::pair<double, double> BougnouxSquaredFocalLengths(const Eigen::Matrix3d& F,
-                                                      const Eigen::Vector2d& pp1,
-                                                      const Eigen::Vector2d& pp2);
-
-// Focal lengths (pixels), or nullopt when either squared focal length is not positive.
+// Focal lengths (f1, f2) in pixels of two cameras with unit aspect, zero skew and known
+// principal points pp1, pp2, from F (x2^T F x1 = 0). nullopt when either f^2 <= 0 (noise or a
+// degenerate configuration) or the formula is singular.
 std::optional<std::pair<double, double>> BougnouxFocalLengths(const Eigen::Matrix3d& F,
                                                               const Eigen::Vector2d& pp1,
                                                               const Eigen::Vector2d& pp2);
 
-// Distance (pixels) from p2 to the epipolar line of p1: near 0 the optical axes are nearly
-// coplanar and Bougnoux's formula is ill-conditioned.
-double PrincipalPointEpipolarDistance(const Eigen::Matrix3d& F, const Eigen::Vector2d& pp1,
-                                      const Eigen::Vector2d& pp2);
+// One focal length shared by both images (Mendonca-Cipolla): the f in [min_focal, max_focal]
+// that makes the two non-zero singular values of E = K^T F K equal, minimising
+// (s1 - s2) / s1 by a log-spaced scan refined by golden-section search. nullopt when the best
+// cost stays above `max_cost` (no f makes E essential).
+std::optional<double> EqualFocalLength(const Eigen::Matrix3d& F, const Eigen::Vector2d& pp1,
+                                       const Eigen::Vector2d& pp2, double min_focal,
+                                       double max_focal, double max_cost = 0.05);
 
 }  // namespace varsfm

@@ -187,11 +187,8 @@ IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
     if (report.inlier_mask[i]) geometry.inlier_matches.push_back(matches[i]);
   const Camera& c1 = rec.CameraOf(pair.image_id1);
   const Camera& c2 = rec.CameraOf(pair.image_id2);
-  std::string reason;
   geometry.well_conditioned =
-      ClosedFormFocalLengths(geometry.F, c1.width, c1.height, c2.width, c2.height,
-                             TwoViewCalibrationOptions{}, &reason)
-          .has_value();
+      ClosedFormFocalsWellConditioned(geometry.F, c1.width, c1.height, c2.width, c2.height);
   return geometry;
 }
 
@@ -208,7 +205,9 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   Camera& camera1 = rec->CameraOf(id1);
   Camera& camera2 = rec->CameraOf(id2);
   TwoViewCalibrationOptions calib_options;
-  calib_options.refine_distortion = options_.refine_distortion;
+  // Two views cannot separate k1, k2 from the focal lengths well (tests/calibration): the
+  // distortion is estimated once more views are in.
+  calib_options.refine_distortion = false;
   const TwoViewCalibration calib =
       CalibrateTwoView(in1, in2, camera1.width, camera1.height, camera2.width, camera2.height,
                        geometry.F, calib_options);

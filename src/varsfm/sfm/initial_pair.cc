@@ -2,9 +2,36 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
+#include "varsfm/calibration/bougnoux.h"
+
 namespace varsfm {
+
+bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1,
+                                     int width2, int height2) {
+  constexpr double kPerturbation = 0.02;  // of the image size
+  constexpr double kMaxLogChange = 0.15;  // |log f' - log f|
+  const Eigen::Vector2d pp1(width1 / 2.0, height1 / 2.0), pp2(width2 / 2.0, height2 / 2.0);
+  const double size1 = std::max(width1, height1), size2 = std::max(width2, height2);
+  const auto focals = BougnouxFocalLengths(F, pp1, pp2);
+  if (!focals || focals->first < 0.3 * size1 || focals->first > 5 * size1 ||
+      focals->second < 0.3 * size2 || focals->second > 5 * size2)
+    return false;
+  for (const Eigen::Vector2d dir : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1),
+                                    Eigen::Vector2d(-1, 0), Eigen::Vector2d(0, -1)}) {
+    for (int which = 0; which < 2; ++which) {
+      const auto moved =
+          BougnouxFocalLengths(F, pp1 + (which == 0 ? kPerturbation * size1 : 0.0) * dir,
+                               pp2 + (which == 1 ? kPerturbation * size2 : 0.0) * dir);
+      if (!moved || std::abs(std::log(moved->first / focals->first)) > kMaxLogChange ||
+          std::abs(std::log(moved->second / focals->second)) > kMaxLogChange)
+        return false;
+    }
+  }
+  return true;
+}
 
 std::vector<InitialPairCandidate> RankInitialPairs(
     const Reconstruction& rec, const CorrespondenceGraph& graph,

@@ -29,6 +29,13 @@ struct InitialPairCandidate {
   double score = 0;           // normalised D_M * D_S
 };
 
+// Whether Bougnoux's closed-form focal lengths from F (principal points at the image centres)
+// can be trusted: positive, in [0.3, 5] x max(w, h), and stable when a principal point moves by
+// 2 % of the image size. Near-coplanar optical axes (common when every photo looks at the same
+// object) fail the last test. Cheap: used to prefer such pairs before calibrating one.
+bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1,
+                                     int width2, int height2);
+
 // Candidates sorted by decreasing score. `excluded_pairs` (planar/panoramic pairs) and
 // `registered` images are skipped. Deterministic: ties broken by image ids.
 std::vector<InitialPairCandidate> RankInitialPairs(

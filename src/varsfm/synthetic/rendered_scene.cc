@@ -169,7 +169,8 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
     std::ofstream out(gt_dir / (name + ".camera"));
     out.precision(17);
     for (int r = 0; r < 3; ++r) out << K(r, 0) << " " << K(r, 1) << " " << K(r, 2) << "\n";
-    out << c.params[Camera::kK1] << " " << c.params[Camera::kK2] << " 0\n";  // radial distortion
+    if (c.HasDistortion()) Fail("the Strecha layout holds no lens distortion; render with k1 = k2 = 0");
+    out << "0 0 0\n";
     for (int r = 0; r < 3; ++r) out << R(r, 0) << " " << R(r, 1) << " " << R(r, 2) << "\n";
     out << C.x() << " " << C.y() << " " << C.z() << "\n";
     out << c.width << " " << c.height << "\n";
