@@ -9,9 +9,11 @@
 
 #include "varsfm/pipeline/evaluate.h"
 #include "varsfm/pipeline/demo.h"
+#include "varsfm/pipeline/densify.h"
 #include "varsfm/pipeline/extract.h"
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
+#include "varsfm/pipeline/mesh.h"
 #include "varsfm/pipeline/run.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -159,6 +161,44 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(3, 200));
     cmd->add_option("--seed", demo.scene.seed, "scene seed")->capture_default_str();
     cmd->callback([&demo] { varsfm::RunDemo(demo); });
+  }
+
+  // densify: sparse model + photos -> dense coloured point cloud by match propagation.
+  varsfm::DensifyCommandOptions densify;
+  {
+    CLI::App* cmd = app.add_subcommand("densify", "quasi-dense point cloud by match propagation");
+    cmd->add_option("--workspace", densify.workspace, "workspace database (optional)");
+    cmd->add_option("--sparse", densify.sparse, "sparse model folder (COLMAP)")->required();
+    cmd->add_option("--images", densify.image_dir, "image folder")->required();
+    cmd->add_option("--output", densify.output, "output folder (dense.ply)")->required();
+    cmd->add_option("--max-image-size", densify.dense.max_image_size, "matching image size")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--partners", densify.dense.max_partners, "partners per image")
+        ->capture_default_str()->check(CLI::Range(1, 10));
+    cmd->add_option("--min-zncc", densify.dense.propagation.min_zncc, "ZNCC threshold")
+        ->capture_default_str()->check(CLI::Range(-1.0, 1.0));
+    cmd->add_option("--threads", densify.dense.num_threads, "threads (0: all cores)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->callback([&densify] { varsfm::RunDensify(densify); });
+  }
+
+  // mesh: dense oriented point cloud -> surface mesh with vertex colours (mesh.ply).
+  varsfm::MeshCommandOptions mesh;
+  {
+    CLI::App* cmd = app.add_subcommand("mesh", "surface mesh from a dense point cloud");
+    cmd->add_option("--input", mesh.input, "point cloud PLY (dense.ply)")->required();
+    cmd->add_option("--output", mesh.output, "output folder (mesh.ply)")->required();
+    cmd->add_option_function<std::string>(
+           "--method",
+           [&mesh](const std::string& m) { mesh.surface.method = varsfm::ParseSurfaceMethod(m); },
+           "poisson (default) | afront")
+        ->check(CLI::IsMember({"poisson", "afront"}));
+    cmd->add_option("--max-points", mesh.surface.max_points, "downsample above this many points")
+        ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--trim", mesh.surface.trim_factor,
+                    "Poisson: drop faces farther than this x point spacing from the data (0: keep)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->callback([&mesh] { varsfm::RunMesh(mesh); });
   }
 
   try {

@@ -1,0 +1,368 @@
+#include "varsfm/dense/densify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <set>
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
+
+#include "varsfm/geometry/fundamental.h"
+#include "varsfm/geometry/triangulation.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/progress.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+// A registered view prepared for matching: its undistorted image and pinhole projection.
+struct DenseView {
+  image_t image_id = kInvalidImageId;
+  UndistortedView image;
+  Matrix34d P;  // K [R | t] of the matching image
+  Rigid3d cam_from_world;
+  Eigen::Vector3d center;
+};
+
+// A triangulated quasi-dense match of one pair.
+struct PairPoint {
+  Eigen::Vector3d xyz;
+  Eigen::Vector2f x1, x2;
+  Eigen::Vector3f color;  // BGR
+};
+
+// The registered views that see each 3D point, grouped per image pair (first < second).
+std::map<std::pair<image_t, image_t>, std::vector<point3D_t>> SharedPoints(
+    const Reconstruction& rec) {
+  std::map<std::pair<image_t, image_t>, std::vector<point3D_t>> shared;
+  for (const auto& [id, point] : rec.points3D()) {
+    std::vector<image_t> views;
+    for (const TrackElement& el : point.track)
+      if (rec.ExistsImage(el.image_id) && rec.image(el.image_id).registered)
+        views.push_back(el.image_id);
+    std::sort(views.begin(), views.end());
+    views.erase(std::unique(views.begin(), views.end()), views.end());
+    for (size_t a = 0; a < views.size(); ++a)
+      for (size_t b = a + 1; b < views.size(); ++b) shared[{views[a], views[b]}].push_back(id);
+  }
+  return shared;
+}
+
+Eigen::Vector3d ProjectH(const Matrix34d& P, const Eigen::Vector3d& X) {
+  return P * X.homogeneous();
+}
+
+cv::Vec3f SampleColor(const cv::Mat& color, const Eigen::Vector2f& x) {
+  const int c = std::clamp(static_cast<int>(x.x()), 0, color.cols - 1);
+  const int r = std::clamp(static_cast<int>(x.y()), 0, color.rows - 1);
+  const cv::Vec3b v = color.at<cv::Vec3b>(r, c);
+  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
+}
+
+// Propagation and triangulation of one pair (views a, b), seeded by their shared sparse points.
+std::vector<PairPoint> DensifyPair(const Reconstruction& rec, const DenseView& a,
+                                   const DenseView& b, const std::vector<point3D_t>& shared,
+                                   const DensifyOptions& options, size_t* num_matches) {
+  std::vector<SeedMatch> seeds;
+  const auto in_image = [](const UndistortedView& v, const Eigen::Vector3d& h, Eigen::Vector2d* x) {
+    if (h.z() <= 0) return false;
+    *x = h.hnormalized();
+    return x->x() >= 0 && x->y() >= 0 && x->x() < v.gray.cols && x->y() < v.gray.rows;
+  };
+  for (point3D_t id : shared) {
+    const Eigen::Vector3d& X = rec.point3D(id).xyz;
+    SeedMatch s;
+    if (in_image(a.image, ProjectH(a.P, X), &s.x1) && in_image(b.image, ProjectH(b.P, X), &s.x2))
+      seeds.push_back(s);
+  }
+  std::optional<Eigen::Matrix3d> F;
+  if (options.use_epipolar_constraint)
+    F = FundamentalFromPose(a.image.K, b.image.K, b.cam_from_world * a.cam_from_world.Inverse());
+  const std::vector<QuasiDenseMatch> matches =
+      PropagateMatches(a.image.gray, b.image.gray, seeds, options.propagation, F);
+  *num_matches = matches.size();
+
+  std::vector<PairPoint> points;
+  points.reserve(matches.size());
+  const double min_angle = options.min_point_angle_deg * kDegToRad;
+  const double max_err2 = options.max_reprojection_error * options.max_reprojection_error;
+  for (const QuasiDenseMatch& m : matches) {
+    const Eigen::Vector2d x1 = m.x1.cast<double>(), x2 = m.x2.cast<double>();
+    Eigen::Vector3d X;
+    if (!TriangulatePoint(a.P, b.P, x1, x2, &X)) continue;
+    const Eigen::Vector3d h1 = ProjectH(a.P, X), h2 = ProjectH(b.P, X);
+    if (h1.z() <= 0 || h2.z() <= 0) continue;
+    if ((h1.hnormalized() - x1).squaredNorm() > max_err2 ||
+        (h2.hnormalized() - x2).squaredNorm() > max_err2)
+      continue;
+    if (TriangulationAngle(a.center, b.center, X) < min_angle) continue;
+    const cv::Vec3f c =
+        0.5f * (SampleColor(a.image.color, m.x1) + SampleColor(b.image.color, m.x2));
+    points.push_back({X, m.x1, m.x2, Eigen::Vector3f(c[0], c[1], c[2])});
+  }
+  return points;
+}
+
+// Fusion across pairs (sequential in pair order, so deterministic): a new point merges with the
+// point already owning the pixel it projects to in a nearby view when their depths agree; each
+// point claims the pixels of the two views it was matched in.
+struct Fusion {
+  struct Observation {
+    uint32_t point;
+    uint32_t view;
+    Eigen::Vector2f pixel;
+  };
+  std::vector<Eigen::Vector3d> sum;
+  std::vector<Eigen::Vector3f> color_sum;
+  std::vector<uint32_t> count;
+  std::vector<Observation> observations;
+  std::vector<std::vector<int32_t>> owner;  // per view, per pixel: fused point or -1
+
+  explicit Fusion(const std::vector<DenseView>& views) {
+    for (const DenseView& v : views) owner.emplace_back(v.image.gray.total(), -1);
+  }
+
+  void Add(const std::vector<DenseView>& views, const std::vector<uint32_t>& check_views,
+           uint32_t va, uint32_t vb, const PairPoint& p, double depth_tolerance) {
+    int32_t target = -1;
+    for (uint32_t v : check_views) {
+      const Eigen::Vector3d h = ProjectH(views[v].P, p.xyz);
+      if (h.z() <= 0) continue;
+      const Eigen::Vector2d x = h.hnormalized();
+      const cv::Mat& g = views[v].image.gray;
+      if (x.x() < 0 || x.y() < 0 || x.x() >= g.cols || x.y() >= g.rows) continue;
+      const int32_t o = owner[v][static_cast<size_t>(x.y()) * g.cols + static_cast<size_t>(x.x())];
+      if (o < 0) continue;
+      const double depth = ProjectH(views[v].P, sum[o] / count[o]).z();
+      if (std::abs(depth - h.z()) <= depth_tolerance * h.z()) {
+        target = o;
+        break;
+      }
+    }
+    if (target < 0) {
+      target = static_cast<int32_t>(sum.size());
+      sum.push_back(Eigen::Vector3d::Zero());
+      color_sum.push_back(Eigen::Vector3f::Zero());
+      count.push_back(0);
+    }
+    sum[target] += p.xyz;
+    color_sum[target] += p.color;
+    ++count[target];
+    const uint32_t t = static_cast<uint32_t>(target);
+    observations.push_back({t, va, p.x1});
+    observations.push_back({t, vb, p.x2});
+    Claim(views, va, p.x1, target);
+    Claim(views, vb, p.x2, target);
+  }
+
+  void Claim(const std::vector<DenseView>& views, uint32_t v, const Eigen::Vector2f& x,
+             int32_t point) {
+    const size_t i =
+        static_cast<size_t>(x.y()) * views[v].image.gray.cols + static_cast<size_t>(x.x());
+    if (i < owner[v].size() && owner[v][i] < 0) owner[v][i] = point;
+  }
+};
+
+}  // namespace
+
+UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, double scale) {
+  if (image.empty()) Fail("densify: empty image for camera {}", camera.camera_id);
+  UndistortedView out;
+  const int width = std::max(1, static_cast<int>(std::lround(image.cols * scale)));
+  const int height = std::max(1, static_cast<int>(std::lround(image.rows * scale)));
+  const double sx = static_cast<double>(width) / image.cols;
+  const double sy = static_cast<double>(height) / image.rows;
+  // With the pixel-corner origin, scaling pixel coordinates is exact: x' = s x.
+  Camera scaled = camera;
+  scaled.params[Camera::kFocal] *= sx;
+  scaled.params[Camera::kAspect] *= sy / sx;
+  scaled.params[Camera::kSkew] *= sx;
+  scaled.params[Camera::kU0] *= sx;
+  scaled.params[Camera::kV0] *= sy;
+  cv::Mat source = image;
+  if (width != image.cols || height != image.rows)
+    cv::resize(image, source, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+  out.K = scaled.K();
+  out.scale = sx;
+  if (!scaled.HasDistortion()) {
+    out.color = source.clone();
+  } else {
+    const Eigen::Matrix3d K_inv = out.K.inverse();
+    cv::Mat map_x(height, width, CV_32F), map_y(height, width, CV_32F);
+    cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
+      for (int r = rows.start; r < rows.end; ++r)
+        for (int c = 0; c < width; ++c) {
+          const Eigen::Vector3d n = K_inv * Eigen::Vector3d(c + 0.5, r + 0.5, 1.0);
+          const Eigen::Vector2d x = scaled.NormalizedToImage(n.hnormalized());
+          // OpenCV samples with pixel centres at integers.
+          map_x.at<float>(r, c) = static_cast<float>(x.x() - 0.5);
+          map_y.at<float>(r, c) = static_cast<float>(x.y() - 0.5);
+        }
+    });
+    cv::remap(source, out.color, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  }
+  if (out.color.channels() == 3)
+    cv::cvtColor(out.color, out.gray, cv::COLOR_BGR2GRAY);
+  else
+    out.gray = out.color, cv::cvtColor(out.gray, out.color, cv::COLOR_GRAY2BGR);
+  return out;
+}
+
+std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& rec,
+                                                          const DensifyOptions& options) {
+  const auto shared = SharedPoints(rec);
+  // Candidate partners per image: (shared count, partner).
+  std::map<image_t, std::vector<std::pair<size_t, image_t>>> candidates;
+  for (const auto& [pair, ids] : shared) {
+    if (ids.size() < static_cast<size_t>(options.min_shared_points)) continue;
+    const Eigen::Vector3d c1 = rec.image(pair.first).Center(), c2 = rec.image(pair.second).Center();
+    std::vector<double> angles;
+    const size_t step = std::max<size_t>(1, ids.size() / 200);
+    for (size_t i = 0; i < ids.size(); i += step)
+      angles.push_back(TriangulationAngle(c1, c2, rec.point3D(ids[i]).xyz));
+    std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
+    const double median = angles[angles.size() / 2] / kDegToRad;
+    if (median < options.min_pair_angle_deg || median > options.max_pair_angle_deg) continue;
+    candidates[pair.first].push_back({ids.size(), pair.second});
+    candidates[pair.second].push_back({ids.size(), pair.first});
+  }
+  std::set<std::pair<image_t, image_t>> pairs;
+  for (auto& [image, partners] : candidates) {
+    std::sort(partners.begin(), partners.end(), [](const auto& x, const auto& y) {
+      return x.first != y.first ? x.first > y.first : x.second < y.second;
+    });
+    for (size_t i = 0; i < partners.size() && i < static_cast<size_t>(options.max_partners); ++i)
+      pairs.insert({std::min(image, partners[i].second), std::max(image, partners[i].second)});
+  }
+  return {pairs.begin(), pairs.end()};
+}
+
+PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
+                   const DensifyOptions& options, DensifyStats* stats) {
+  if (rec.NumRegisteredImages() < 2)
+    Fail("densify: the sparse model has {} registered images; at least 2 are needed",
+         rec.NumRegisteredImages());
+  std::optional<tbb::global_control> threads;
+  if (options.num_threads > 0)
+    threads.emplace(tbb::global_control::max_allowed_parallelism, options.num_threads);
+  const auto pairs = SelectDensePairs(rec, options);
+  if (pairs.empty())
+    Fail("densify: no image pair shares {} points with a triangulation angle of {}..{} deg",
+         options.min_shared_points, options.min_pair_angle_deg, options.max_pair_angle_deg);
+  DensifyStats local;
+  DensifyStats& st = stats ? *stats : local;
+  st = {};
+  st.num_pairs = pairs.size();
+
+  // Views involved in a pair, each loaded and undistorted once.
+  std::set<image_t> used;
+  for (const auto& [i, j] : pairs) used.insert(i), used.insert(j);
+  std::vector<DenseView> views;
+  std::map<image_t, uint32_t> view_index;
+  for (image_t id : used) {
+    view_index[id] = static_cast<uint32_t>(views.size());
+    views.push_back({});
+    views.back().image_id = id;
+  }
+  Timer timer;
+  {
+    Progress progress("undistort", views.size());
+    tbb::parallel_for(size_t{0}, views.size(), [&](size_t i) {
+      DenseView& v = views[i];
+      const Camera& camera = rec.CameraOf(v.image_id);
+      const double scale = std::min(
+          1.0, static_cast<double>(options.max_image_size) / std::max(camera.width, camera.height));
+      v.image = UndistortImage(load_image(v.image_id), camera, scale);
+      v.cam_from_world = rec.image(v.image_id).cam_from_world;
+      v.center = v.cam_from_world.Center();
+      v.P = v.image.K * v.cam_from_world.ToMatrix();
+      progress.Tick();
+    });
+  }
+
+  const auto shared = SharedPoints(rec);
+  std::vector<std::vector<PairPoint>> pair_points(pairs.size());
+  std::vector<size_t> pair_matches(pairs.size(), 0);
+  {
+    Progress progress("propagate", pairs.size());
+    tbb::parallel_for(size_t{0}, pairs.size(), [&](size_t p) {
+      const auto& [i, j] = pairs[p];
+      pair_points[p] = DensifyPair(rec, views[view_index.at(i)], views[view_index.at(j)],
+                                   shared.at(pairs[p]), options, &pair_matches[p]);
+      progress.Tick(1, fmt::format("{} pts", pair_points[p].size()));
+    });
+  }
+  st.seconds_propagation = timer.Seconds();
+  timer.Restart();
+  for (size_t p = 0; p < pairs.size(); ++p)
+    st.num_matches += pair_matches[p], st.num_triangulated += pair_points[p].size();
+
+  // Views checked for a pair's points: its own two and their partners in other pairs.
+  std::vector<std::set<uint32_t>> adjacent(views.size());
+  for (const auto& [i, j] : pairs) {
+    const uint32_t a = view_index.at(i), b = view_index.at(j);
+    adjacent[a].insert({a, b}), adjacent[b].insert({a, b});
+  }
+  Fusion fusion(views);
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const uint32_t a = view_index.at(pairs[p].first), b = view_index.at(pairs[p].second);
+    std::set<uint32_t> check(adjacent[a]);
+    check.insert(adjacent[b].begin(), adjacent[b].end());
+    const std::vector<uint32_t> check_views(check.begin(), check.end());
+    for (const PairPoint& point : pair_points[p])
+      fusion.Add(views, check_views, a, b, point, options.fusion_depth_tolerance);
+    pair_points[p] = {};
+  }
+
+  // Every observation of a fused point must still reproject within the tolerance (twice the
+  // per-pair one: merged positions are averages of points up to a pixel and a depth step apart).
+  const size_t n = fusion.sum.size();
+  std::vector<uint32_t> valid(n, 0);
+  std::vector<uint32_t> first_view(n, UINT32_MAX);
+  const double max_err2 = 4 * options.max_reprojection_error * options.max_reprojection_error;
+  for (const auto& obs : fusion.observations) {
+    const Eigen::Vector3d X = fusion.sum[obs.point] / fusion.count[obs.point];
+    const Eigen::Vector3d h = ProjectH(views[obs.view].P, X);
+    if (h.z() <= 0 || (h.hnormalized() - obs.pixel.cast<double>()).squaredNorm() > max_err2)
+      continue;
+    ++valid[obs.point];
+    if (first_view[obs.point] == UINT32_MAX) first_view[obs.point] = obs.view;
+  }
+  PointCloud cloud;
+  std::vector<Eigen::Vector3d> centers;
+  std::vector<double> footprints;  // size of a matching pixel at the point (for the normals)
+  for (size_t i = 0; i < n; ++i) {
+    if (valid[i] < static_cast<uint32_t>(options.min_views)) continue;
+    const Eigen::Vector3d X = fusion.sum[i] / fusion.count[i];
+    const Eigen::Vector3f c = fusion.color_sum[i] / static_cast<float>(fusion.count[i]);
+    cloud.points.push_back(X);
+    // BGR -> RGB.
+    cloud.colors.push_back({static_cast<uint8_t>(std::lround(c.z())),
+                            static_cast<uint8_t>(std::lround(c.y())),
+                            static_cast<uint8_t>(std::lround(c.x()))});
+    const DenseView& v = views[first_view[i]];
+    centers.push_back(v.center);
+    footprints.push_back(ProjectH(v.P, X).z() / v.image.K(0, 0));
+  }
+  if (cloud.points.empty()) Fail("densify: no dense point survived the filters");
+  std::nth_element(footprints.begin(), footprints.begin() + footprints.size() / 2,
+                   footprints.end());
+  cloud.normals = EstimateNormals(cloud.points, centers, options.normal_neighbors,
+                                  footprints[footprints.size() / 2]);
+  st.num_points = cloud.points.size();
+  st.seconds_fusion = timer.Seconds();
+  info("densify: {} pairs, {} matches, {} triangulated, {} fused points ({:.1f} s + {:.1f} s)",
+       st.num_pairs, st.num_matches, st.num_triangulated, st.num_points, st.seconds_propagation,
+       st.seconds_fusion);
+  return cloud;
+}
+
+}  // namespace varsfm

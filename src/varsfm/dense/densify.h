@@ -1,0 +1,73 @@
+#pragma once
+// Dense reconstruction from a sparse model (the paper's last stage before the surface): image
+// pairs are chosen from the shared 3D points, undistorted, matched quasi-densely by match
+// propagation seeded with the sparse points (Lhuillier & Quan 2002), the matches triangulated
+// with the known cameras, fused across pairs, coloured, and given PCA normals.
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "varsfm/dense/match_propagation.h"
+#include "varsfm/dense/normals.h"
+#include "varsfm/io/ply.h"
+#include "varsfm/scene/reconstruction.h"
+
+namespace varsfm {
+
+struct DensifyOptions {
+  // Pair selection: partners share >= min_shared_points 3D points whose median triangulation
+  // angle lies in [min, max] degrees; each image keeps its best `max_partners` (most shared).
+  int max_partners = 2;
+  int min_shared_points = 15;
+  double min_pair_angle_deg = 3.0;
+  double max_pair_angle_deg = 40.0;
+  // Images are matched at most this size (longer side, px); larger ones are downscaled.
+  int max_image_size = 1600;
+  PropagationOptions propagation;
+  bool use_epipolar_constraint = true;
+  // Per-point filters.
+  double min_point_angle_deg = 1.0;
+  double max_reprojection_error = 1.0;  // px, in the (possibly downscaled) matching images
+  // Fusion: a point merges with one already projecting on the same pixel of a shared view when
+  // their depths agree within this relative tolerance.
+  double fusion_depth_tolerance = 0.01;
+  int min_views = 2;  // observations a fused point needs (2: one pair)
+  int normal_neighbors = 20;
+  int num_threads = 0;  // 0: all cores
+};
+
+// The undistorted, possibly downscaled image of a registered view and its pinhole camera.
+struct UndistortedView {
+  cv::Mat color;  // BGR 8-bit
+  cv::Mat gray;
+  Eigen::Matrix3d K;
+  double scale = 1.0;  // matching image size / original size
+};
+
+// Undistorts `image` (the original photo of `camera`) into a pinhole image with the same K
+// (scaled by `scale`): every output pixel samples the photo where the full camera model
+// (distortion included) projects its ray.
+UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, double scale);
+
+struct DensifyStats {
+  size_t num_pairs = 0;
+  size_t num_matches = 0;       // quasi-dense matches over all pairs
+  size_t num_triangulated = 0;  // after the angle / reprojection filters
+  size_t num_points = 0;        // after fusion
+  double seconds_propagation = 0;
+  double seconds_fusion = 0;
+};
+
+// The image pairs densify would match (image ids, first < second, sorted).
+std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& reconstruction,
+                                                          const DensifyOptions& options);
+
+// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). Throws
+// varsfm::Error when the model has fewer than two registered images or no usable pair.
+PointCloud Densify(const Reconstruction& reconstruction,
+                   const std::function<cv::Mat(image_t)>& load_image,
+                   const DensifyOptions& options = {}, DensifyStats* stats = nullptr);
+
+}  // namespace varsfm

@@ -1,0 +1,127 @@
+#include "varsfm/mesh/point_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+Eigen::Vector3i CellOf(const Eigen::Vector3d& p, double size) {
+  return (p / size).array().floor().cast<int>();
+}
+
+// 21 bits per axis: cells wrap around beyond +-1e6 cells, which only merges far-apart buckets
+// (queries still compare true distances).
+uint64_t Key(const Eigen::Vector3i& c) {
+  const uint64_t mask = (1u << 21) - 1;
+  return ((static_cast<uint64_t>(c.x()) & mask) << 42) |
+         ((static_cast<uint64_t>(c.y()) & mask) << 21) | (static_cast<uint64_t>(c.z()) & mask);
+}
+
+}  // namespace
+
+PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
+  if (voxel_size <= 0) return cloud;
+  struct Acc {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
+                    c = Eigen::Vector3d::Zero();
+    int count = 0;
+  };
+  std::unordered_map<uint64_t, size_t> slot;
+  std::vector<Acc> acc;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    auto [it, inserted] = slot.try_emplace(Key(CellOf(cloud.points[i], voxel_size)), acc.size());
+    if (inserted) acc.emplace_back();
+    Acc& a = acc[it->second];
+    a.p += cloud.points[i];
+    if (cloud.HasNormals()) a.n += cloud.normals[i];
+    if (cloud.HasColors()) a.c += cloud.colors[i].cast<double>();
+    ++a.count;
+  }
+  PointCloud out;
+  for (const Acc& a : acc) {
+    if (cloud.HasNormals()) {
+      // Opposite normals in one voxel (a thin wall) cancel: drop that voxel rather than
+      // hand Poisson an arbitrary orientation.
+      if (a.n.norm() < 1e-6 * a.count) continue;
+      out.normals.push_back(a.n.normalized());
+    }
+    out.points.push_back(a.p / a.count);
+    if (cloud.HasColors()) {
+      out.colors.push_back((a.c / a.count).array().round().cast<uint8_t>());
+    }
+  }
+  return out;
+}
+
+double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t samples) {
+  if (points.size() < 2) Fail("need at least two points to estimate the point spacing");
+  Eigen::Vector3d lo = points[0], hi = points[0];
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // Start from the spacing of points spread evenly over the bounding box's surface, then grow
+  // the search cell until every sampled point finds a neighbour.
+  const Eigen::Vector3d e = (hi - lo).cwiseMax(1e-12);
+  const double area = 2 * (e.x() * e.y() + e.y() * e.z() + e.x() * e.z());
+  double cell = std::max(std::sqrt(area / points.size()), 1e-9);
+  const size_t stride = std::max<size_t>(1, points.size() / samples);
+  for (int attempt = 0; attempt < 60; ++attempt, cell *= 2) {
+    std::unordered_map<uint64_t, std::vector<size_t>> cells;
+    for (size_t i = 0; i < points.size(); ++i) cells[Key(CellOf(points[i], cell))].push_back(i);
+    double sum = 0;
+    size_t count = 0;
+    bool all_found = true;
+    for (size_t i = 0; i < points.size() && all_found; i += stride) {
+      const Eigen::Vector3i c = CellOf(points[i], cell);
+      double best = std::numeric_limits<double>::infinity();
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            auto it = cells.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
+            if (it == cells.end()) continue;
+            for (size_t j : it->second) {
+              if (j != i) best = std::min(best, (points[j] - points[i]).squaredNorm());
+            }
+          }
+      // A neighbour beyond one cell might be beaten by one further out: only trust d <= cell.
+      if (best > cell * cell) all_found = false;
+      sum += std::sqrt(best);
+      ++count;
+    }
+    if (all_found) return sum / count;
+  }
+  Fail("cannot estimate the point spacing (all points coincide?)");
+}
+
+PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size)
+    : points_(points), cell_size_(cell_size) {
+  if (cell_size <= 0) Fail("PointGrid: cell size must be positive");
+  for (size_t i = 0; i < points.size(); ++i) cells_[Key(CellOf(points[i], cell_size))].push_back(i);
+}
+
+std::optional<size_t> PointGrid::NearestWithinCell(const Eigen::Vector3d& query) const {
+  const Eigen::Vector3i c = CellOf(query, cell_size_);
+  double best = cell_size_ * cell_size_;
+  std::optional<size_t> nearest;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        auto it = cells_.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
+        if (it == cells_.end()) continue;
+        for (size_t j : it->second) {
+          const double d = (points_[j] - query).squaredNorm();
+          if (d <= best) {
+            best = d;
+            nearest = j;
+          }
+        }
+      }
+  return nearest;
+}
+
+}  // namespace varsfm

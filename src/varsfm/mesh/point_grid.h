@@ -1,0 +1,35 @@
+#pragma once
+// A uniform hash grid over a point set: voxel-grid downsampling (so that Poisson sees an even
+// density and a bounded point count) and nearest-point queries within one cell size (used to
+// trim surface parts far from the data and to colour mesh vertices).
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "varsfm/io/ply.h"
+
+namespace varsfm {
+
+// Replaces the points of each voxel_size cube by their mean (normals: normalised mean, colours:
+// mean). voxel_size <= 0 returns the cloud unchanged.
+PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size);
+
+// Mean distance from each point to its nearest other point, estimated on at most `samples`
+// points (evenly strided, so deterministic). Needs at least two points.
+double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t samples = 2000);
+
+class PointGrid {
+ public:
+  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size);
+  // Index of the nearest point within cell_size of `query`, if any.
+  std::optional<size_t> NearestWithinCell(const Eigen::Vector3d& query) const;
+
+ private:
+  const std::vector<Eigen::Vector3d>& points_;
+  double cell_size_;
+  std::unordered_map<uint64_t, std::vector<size_t>> cells_;
+};
+
+}  // namespace varsfm

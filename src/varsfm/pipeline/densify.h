@@ -1,0 +1,30 @@
+#pragma once
+// Stage 4 of the pipeline: a sparse model and its photos in, a dense coloured point cloud with
+// normals out (OUT/dense.ply), by match propagation (dense/densify.h).
+#include <filesystem>
+
+#include "varsfm/dense/densify.h"
+
+namespace varsfm {
+
+struct DensifyCommandOptions {
+  // Optional: when given it must exist; densify itself needs only the sparse model and photos
+  // (the model's 3D points are the propagation seeds).
+  std::filesystem::path workspace;
+  std::filesystem::path sparse;     // COLMAP model folder (text or binary)
+  std::filesystem::path image_dir;  // the photos, by the model's image names
+  std::filesystem::path output;     // OUT/dense.ply is written
+  DensifyOptions dense;
+};
+
+struct DensifyCommandResult {
+  DensifyStats stats;
+  size_t num_points = 0;
+  double seconds = 0;
+};
+
+// Throws varsfm::Error (one line) for a missing/unreadable model, a model with fewer than two
+// registered images, a missing photo or one whose size differs from its camera.
+DensifyCommandResult RunDensify(const DensifyCommandOptions& options);
+
+}  // namespace varsfm

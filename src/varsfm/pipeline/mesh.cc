@@ -1,0 +1,38 @@
+#include "varsfm/pipeline/mesh.h"
+
+#include <system_error>
+
+#include "varsfm/io/ply.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+
+MeshCommandResult RunMesh(const MeshCommandOptions& options) {
+  Timer timer;
+  const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method);
+  MeshCommandResult result;
+  TriangleMesh mesh;
+  try {
+    mesh = ReconstructSurface(cloud, options.surface, &result.stats);
+  } catch (const Error& e) {
+    Fail("{}: {}", options.input.string(), e.what());
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(options.output, ec);
+  if (ec) Fail("{}: cannot create ({})", options.output.string(), ec.message());
+  WriteMeshPly(options.output / "mesh.ply", mesh);
+
+  result.num_vertices = mesh.vertices.size();
+  result.num_faces = mesh.faces.size();
+  result.topology = ComputeEdgeTopology(mesh);
+  result.seconds = timer.Seconds();
+  spdlog::info("mesh: {} vertices, {} faces ({} boundary, {} non-manifold edges) in {:.1f} s -> {}",
+               result.num_vertices, result.num_faces, result.topology.boundary_edges,
+               result.topology.non_manifold_edges, result.seconds,
+               (options.output / "mesh.ply").string());
+  return result;
+}
+
+}  // namespace varsfm
