@@ -16,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Ground truth from a synthetic scene (names as in ReconstructionFromSynthetic), and the
+// Ground truth from a synthetic scene (names as in ModelFromSynthetic), and the
 // "estimated" model: the same scene expressed in another frame, gt = sim * estimated.
 struct Fixture {
   GroundTruth gt;
@@ -45,7 +45,7 @@ Fixture MakeFixture(int num_images = 8) {
   f.sim.translation = Eigen::Vector3d(-4, 12, 0.5);
   // X_est = inv(sim) X_gt; a camera x = R X_gt + t becomes x / s' = R A^T X_est + t' (the
   // scale ambiguity of a reconstruction): R_est = R A, t_est = (t + R tr) / s with A, tr, s of sim.
-  Reconstruction rec = testing::ReconstructionFromSynthetic(scene);
+  Reconstruction rec = testing::ModelFromSynthetic(scene);
   const Sim3d inv = f.sim.Inverse();
   for (const image_t id : rec.RegisteredImageIds()) {
     Rigid3d& pose = rec.image(id).cam_from_world;

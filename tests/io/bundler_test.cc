@@ -28,7 +28,7 @@ TEST(Bundler, FileStructureAndProjectionConvention) {
   o.focal_end = 1100;
   o.k1 = -0.04;
   o.k2 = 0.01;
-  Reconstruction rec = testing::ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  Reconstruction rec = testing::ModelFromSynthetic(GenerateSyntheticScene(o));
   rec.DeRegisterImage(4);
   testing::TempDir tmp("bundler");
   WriteBundler(rec, tmp.path() / "bundle.out", tmp.path() / "list.txt");

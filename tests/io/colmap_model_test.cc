@@ -14,7 +14,7 @@ namespace varsfm {
 namespace {
 
 namespace fs = std::filesystem;
-using testing::ReconstructionFromSynthetic;
+using testing::ModelFromSynthetic;
 
 // Per-image intrinsics covering several COLMAP models: image 1 plain (SIMPLE_PINHOLE), image 2
 // with k1 (SIMPLE_RADIAL), image 3 with k1, k2 (RADIAL), image 4 with aspect (OPENCV); a point
@@ -33,7 +33,7 @@ Reconstruction TestModel() {
   scene.cameras[2].params[Camera::kK2] = -0.01;
   scene.cameras[3].params[Camera::kAspect] = 1.02;
   scene.cameras[3].params[Camera::kK1] = 0.01;
-  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  Reconstruction rec = ModelFromSynthetic(scene);
   rec.DeletePoint3D(rec.points3D().begin()->first + 3);
   rec.DeRegisterImage(5);
   return rec;

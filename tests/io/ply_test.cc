@@ -61,7 +61,7 @@ TEST(Ply, SparseModelPointsWithColoursNoNormals) {
   SyntheticOptions o;
   o.num_images = 3;
   o.num_points = 100;
-  const Reconstruction rec = testing::ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  const Reconstruction rec = testing::ModelFromSynthetic(GenerateSyntheticScene(o));
   testing::TempDir tmp("ply_sparse");
   WritePly(rec, tmp.path() / "sparse.ply", {.double_precision = true});
   const PointCloud back = ReadPly(tmp.path() / "sparse.ply");
@@ -101,7 +101,7 @@ TEST(Ply, ReadsColmapsPlyExport) {
   SyntheticOptions o;
   o.num_images = 3;
   o.num_points = 100;
-  const Reconstruction rec = testing::ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  const Reconstruction rec = testing::ModelFromSynthetic(GenerateSyntheticScene(o));
   testing::TempDir tmp("ply_colmap");
   WriteColmapModel(rec, tmp.path() / "model");
   std::string output;

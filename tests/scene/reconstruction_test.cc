@@ -2,40 +2,20 @@
 
 #include <gtest/gtest.h>
 
+#include "support/synthetic_reconstruction.h"
 #include "varsfm/synthetic/synthetic_scene.h"
 
 namespace varsfm {
 namespace {
 
-// A reconstruction holding a synthetic scene exactly: every observed point with its full track.
-Reconstruction FromSynthetic(const SyntheticScene& scene) {
-  Reconstruction rec;
-  std::map<int, std::vector<TrackElement>> tracks;
-  for (int i = 0; i < scene.NumImages(); ++i) {
-    rec.AddCamera(scene.cameras[i]);
-    Image image;
-    image.image_id = i + 1;
-    image.camera_id = scene.cameras[i].camera_id;
-    image.name = "image" + std::to_string(i);
-    image.cam_from_world = scene.poses[i];
-    image.registered = true;
-    for (const auto& obs : scene.observations[i]) {
-      tracks[obs.point_id].push_back({image.image_id, static_cast<point2D_t>(image.points2D.size())});
-      image.points2D.push_back({obs.pixel});
-    }
-    rec.AddImage(image);
-  }
-  for (const auto& [pid, track] : tracks)
-    if (track.size() >= 2) rec.AddPoint3D(scene.points[pid], track);
-  return rec;
-}
+using testing::ReconstructionFromSynthetic;
 
 TEST(Reconstruction, ExactSceneHasZeroErrorAndConsistentLinks) {
   SyntheticOptions o;
   o.num_images = 5;
   o.num_points = 300;
   const SyntheticScene scene = GenerateSyntheticScene(o);
-  Reconstruction rec = FromSynthetic(scene);
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
   EXPECT_EQ(rec.NumRegisteredImages(), 5u);
   EXPECT_GT(rec.points3D().size(), 200u);
   EXPECT_LT(rec.RmsReprojectionError(), 1e-9);
@@ -49,7 +29,7 @@ TEST(Reconstruction, FilteringRemovesOnlyBadObservations) {
   SyntheticOptions o;
   o.num_images = 4;
   o.num_points = 200;
-  Reconstruction rec = FromSynthetic(GenerateSyntheticScene(o));
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(o));
   const size_t before = rec.NumObservations();
   // Corrupt one observation by 10 px.
   const point3D_t id = rec.points3D().begin()->first;
@@ -67,7 +47,7 @@ TEST(Reconstruction, DeRegisterRemovesObservationsAndShortTracks) {
   SyntheticOptions o;
   o.num_images = 3;
   o.num_points = 100;
-  Reconstruction rec = FromSynthetic(GenerateSyntheticScene(o));
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(o));
   rec.DeRegisterImage(1);
   rec.DeRegisterImage(2);
   EXPECT_EQ(rec.points3D().size(), 0u);  // one image left: no track of length 2
