@@ -40,17 +40,23 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
       ->capture_default_str()->check(CLI::Range(6, 1000000));
   cmd->add_flag("--refine-principal-point", m.refine_principal_point,
                 "estimate the principal point per image (default: held at the centre)");
+  cmd->add_flag("!--no-shared-principal-point", m.share_principal_point,
+                "hold every principal point at its image centre (default: one principal point "
+                "per image size, estimated in the global adjustments)");
   cmd->add_flag("--refine-aspect", m.refine_aspect, "estimate the aspect ratio per image");
   cmd->add_flag("--refine-skew", m.refine_skew, "estimate the skew per image");
   cmd->add_flag("!--no-distortion", m.refine_distortion, "hold k1 = k2 = 0");
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
   cmd->add_option("--seed", m.seed, "random seed")->capture_default_str();
-  cmd->add_option("--threads", m.num_threads, "threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--threads", m.num_threads, "bundle adjustment threads (1: reproducible bit for bit; 0: all cores)")->capture_default_str();
   static const std::map<std::string, varsfm::IntrinsicsSharing> kSharing = {
       {"per-image", varsfm::IntrinsicsSharing::kPerImage},
-      {"shared", varsfm::IntrinsicsSharing::kShared}};
-  cmd->add_option("--intrinsics", map->sharing, "per-image (default) | shared")
+      {"shared", varsfm::IntrinsicsSharing::kShared},
+      {"focal-per-image", varsfm::IntrinsicsSharing::kFocalPerImage}};
+  cmd->add_option("--intrinsics", map->sharing,
+                  "per-image (default) | focal-per-image (the rest one set per image size) | "
+                  "shared (one camera)")
       ->transform(CLI::CheckedTransformer(kSharing, CLI::ignore_case));
 }
 

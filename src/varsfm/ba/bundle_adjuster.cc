@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <thread>
 
@@ -120,9 +121,128 @@ std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& confi
   return observations;
 }
 
+// The problem's parameters, copied into one contiguous buffer laid out in id order (cameras,
+// shared per-size intrinsics and poses first, then points) so that Ceres' address-ordered
+// elimination groups come out the same in every run (see bundle_adjuster.h).
+class ParameterBuffer {
+ public:
+  using SizeKey = std::pair<int, int>;  // image width, height
+
+  // `group_members`: the cameras that take parameters from their size's shared block.
+  ParameterBuffer(const Reconstruction& rec, const std::set<camera_t>& cameras,
+                  const std::set<SizeKey>& shared_sizes, const std::set<camera_t>& group_members,
+                  unsigned shared_mask, const std::set<image_t>& images,
+                  const std::set<point3D_t>& points)
+      : group_members_(group_members), shared_mask_(shared_mask) {
+    data_.reserve((cameras.size() + shared_sizes.size()) * Camera::kNumParams +
+                  images.size() * 7 + points.size() * 3);
+    for (const camera_t id : cameras) {
+      camera_[id] = data_.size();
+      const auto& p = rec.camera(id).params;
+      data_.insert(data_.end(), p.begin(), p.end());
+    }
+    // A shared block starts at the mean of its cameras' parameters.
+    for (const SizeKey& size : shared_sizes) {
+      Eigen::Matrix<double, Camera::kNumParams, 1> sum;
+      sum.setZero();
+      int n = 0;
+      for (const camera_t id : cameras) {
+        const Camera& c = rec.camera(id);
+        if (SizeKey{c.width, c.height} != size || !group_members.count(id)) continue;
+        sum += Eigen::Map<const Eigen::Matrix<double, Camera::kNumParams, 1>>(c.params.data());
+        ++n;
+      }
+      group_[size] = data_.size();
+      for (int i = 0; i < Camera::kNumParams; ++i) data_.push_back(sum[i] / std::max(n, 1));
+    }
+    for (const image_t id : images) {
+      pose_[id] = data_.size();
+      const Rigid3d& pose = rec.image(id).cam_from_world;
+      const Eigen::Vector4d q = pose.rotation.normalized().coeffs();  // x, y, z, w
+      data_.insert(data_.end(), q.data(), q.data() + 4);
+      data_.insert(data_.end(), pose.translation.data(), pose.translation.data() + 3);
+    }
+    for (const point3D_t id : points) {
+      point_[id] = data_.size();
+      const Eigen::Vector3d& x = rec.point3D(id).xyz;
+      data_.insert(data_.end(), x.data(), x.data() + 3);
+    }
+  }
+
+  double* camera(camera_t id) { return &data_[camera_.at(id)]; }
+  double* rotation(image_t id) { return &data_[pose_.at(id)]; }
+  double* translation(image_t id) { return &data_[pose_.at(id) + 4]; }
+  double* point(point3D_t id) { return &data_[point_.at(id)]; }
+  double* group(const SizeKey& size) { return &data_[group_.at(size)]; }
+  // The shared block the camera takes parameters from; null when it has none.
+  double* group(const Camera& camera) {
+    return group_members_.count(camera.camera_id) ? group(SizeKey{camera.width, camera.height})
+                                                  : nullptr;
+  }
+
+  // Writes the optimised values back (the shared principal points into each of their cameras);
+  // what the config holds constant is left untouched, bit for bit.
+  void CopyTo(const BundleAdjustmentConfig& config, Reconstruction* rec) {
+    for (const auto& [id, offset] : camera_) {
+      if (config.constant_cameras.count(id)) continue;
+      Camera& c = rec->camera(id);
+      std::copy_n(&data_[offset], Camera::kNumParams, c.params.begin());
+      if (const double* shared = group(c))
+        for (int i = 0; i < Camera::kNumParams; ++i)
+          if ((shared_mask_ >> i) & 1u) c.params[i] = shared[i];
+    }
+    for (const auto& [id, offset] : pose_) {
+      if (!config.variable_pose_images.count(id)) continue;
+      Rigid3d& pose = rec->image(id).cam_from_world;
+      pose.rotation.coeffs() = Eigen::Map<const Eigen::Vector4d>(&data_[offset]);
+      pose.rotation.normalize();
+      pose.translation = Eigen::Map<const Eigen::Vector3d>(&data_[offset + 4]);
+    }
+    for (const auto& [id, offset] : point_)
+      if (!config.constant_points.count(id))
+        rec->point3D(id).xyz = Eigen::Map<const Eigen::Vector3d>(&data_[offset]);
+  }
+
+ private:
+  std::vector<double> data_;
+  std::map<camera_t, size_t> camera_;
+  std::map<SizeKey, size_t> group_;
+  std::set<camera_t> group_members_;
+  unsigned shared_mask_ = 0;
+  std::map<image_t, size_t> pose_;
+  std::map<point3D_t, size_t> point_;
+};
+
+// Bit i set: parameter i is shared per image size.
+unsigned SharedMask(const IntrinsicsOptions& options) {
+  unsigned mask = 0;
+  for (const int i : options.shared_per_size)
+    if (i >= 0 && i < Camera::kNumParams) mask |= 1u << i;
+  return mask;
+}
+
+// The variable cameras that form per-size groups (sizes with enough of them), and the sizes.
+std::set<camera_t> SharedGroupMembers(const IntrinsicsOptions& options,
+                                      const BundleAdjustmentConfig& config,
+                                      const std::set<camera_t>& cameras, const Reconstruction& rec,
+                                      std::set<ParameterBuffer::SizeKey>* sizes) {
+  std::set<camera_t> members;
+  if (SharedMask(options) == 0) return members;
+  std::map<ParameterBuffer::SizeKey, std::vector<camera_t>> by_size;
+  for (const camera_t id : cameras)
+    if (!config.constant_cameras.count(id))
+      by_size[{rec.camera(id).width, rec.camera(id).height}].push_back(id);
+  for (const auto& [size, ids] : by_size) {
+    if (static_cast<int>(ids.size()) < std::max(1, options.min_images_to_share)) continue;
+    sizes->insert(size);
+    members.insert(ids.begin(), ids.end());
+  }
+  return members;
+}
+
 // Holds the gauge (see bundle_adjuster.h) by making pose blocks constant or partly constant.
 void FixGauge(const BundleAdjustmentConfig& config, const std::set<image_t>& problem_images,
-              Reconstruction* rec, ceres::Problem* problem) {
+              const Reconstruction& rec, ParameterBuffer* buffer, ceres::Problem* problem) {
   std::vector<image_t> constant, variable;
   for (const image_t id : problem_images)
     (config.variable_pose_images.count(id) ? variable : constant).push_back(id);
@@ -130,17 +250,16 @@ void FixGauge(const BundleAdjustmentConfig& config, const std::set<image_t>& pro
   if (constant.empty()) {
     constant.push_back(variable.front());
     variable.erase(variable.begin());
-    Rigid3d& pose = rec->image(constant.front()).cam_from_world;
-    problem->SetParameterBlockConstant(pose.rotation.coeffs().data());
-    problem->SetParameterBlockConstant(pose.translation.data());
+    problem->SetParameterBlockConstant(buffer->rotation(constant.front()));
+    problem->SetParameterBlockConstant(buffer->translation(constant.front()));
   }
   if (variable.empty()) return;
-  const Eigen::Vector3d c0 = rec->image(constant.front()).Center();
-  Rigid3d& pose = rec->image(variable.front()).cam_from_world;
+  const Eigen::Vector3d c0 = rec.image(constant.front()).Center();
+  const Rigid3d& pose = rec.image(variable.front()).cam_from_world;
   const Eigen::Vector3d d = pose.rotation * (pose.Center() - c0);
   int k = 0;
   d.cwiseAbs().maxCoeff(&k);
-  problem->SetManifold(pose.translation.data(), new ceres::SubsetManifold(3, {k}));
+  problem->SetManifold(buffer->translation(variable.front()), new ceres::SubsetManifold(3, {k}));
 }
 
 }  // namespace
@@ -186,45 +305,69 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   if (observations.empty()) return result;
   result.initial_rms_px = RmsError(rec, observations);
 
-  ceres::Problem problem;  // takes ownership of costs, the shared loss and manifolds
-  ceres::LossFunction* loss = MakeLoss(options);
   std::set<image_t> problem_images;
   std::set<camera_t> problem_cameras;
   std::set<point3D_t> problem_points;
   for (const Observation& o : observations) {
-    Image& image = rec.image(o.image_id);
-    Rigid3d& pose = image.cam_from_world;
-    if (problem_images.insert(o.image_id).second && config.variable_pose_images.count(o.image_id))
-      pose.rotation.normalize();  // the quaternion manifold assumes a unit quaternion
-    problem_cameras.insert(image.camera_id);
+    problem_images.insert(o.image_id);
+    problem_cameras.insert(rec.image(o.image_id).camera_id);
     problem_points.insert(o.point3D_id);
-    problem.AddResidualBlock(ReprojectionCost::Create(image.points2D[o.point2D_idx].xy), loss,
-                             rec.camera(image.camera_id).params.data(),
-                             pose.rotation.coeffs().data(), pose.translation.data(),
-                             rec.point3D(o.point3D_id).xyz.data());
+  }
+  const unsigned shared_mask = SharedMask(options.intrinsics);
+  std::set<ParameterBuffer::SizeKey> shared_sizes;
+  const std::set<camera_t> group_members =
+      SharedGroupMembers(options.intrinsics, config, problem_cameras, rec, &shared_sizes);
+  ParameterBuffer buffer(rec, problem_cameras, shared_sizes, group_members, shared_mask,
+                         problem_images, problem_points);
+
+  ceres::Problem problem;  // takes ownership of costs, the shared loss and manifolds
+  ceres::LossFunction* loss = MakeLoss(options);
+  for (const Observation& o : observations) {
+    const Image& image = rec.image(o.image_id);
+    const Camera& camera = rec.camera(image.camera_id);
+    const Eigen::Vector2d& xy = image.points2D[o.point2D_idx].xy;
+    if (double* group = buffer.group(camera)) {
+      problem.AddResidualBlock(SharedIntrinsicsReprojectionCost::Create(xy, shared_mask), loss,
+                               buffer.camera(image.camera_id), group, buffer.rotation(o.image_id),
+                               buffer.translation(o.image_id), buffer.point(o.point3D_id));
+    } else {
+      problem.AddResidualBlock(ReprojectionCost::Create(xy), loss, buffer.camera(image.camera_id),
+                               buffer.rotation(o.image_id), buffer.translation(o.image_id),
+                               buffer.point(o.point3D_id));
+    }
   }
 
   for (const image_t id : problem_images) {
-    Rigid3d& pose = rec.image(id).cam_from_world;
-    problem.SetManifold(pose.rotation.coeffs().data(), new ceres::EigenQuaternionManifold);
+    problem.SetManifold(buffer.rotation(id), new ceres::EigenQuaternionManifold);
     if (!config.variable_pose_images.count(id)) {
-      problem.SetParameterBlockConstant(pose.rotation.coeffs().data());
-      problem.SetParameterBlockConstant(pose.translation.data());
+      problem.SetParameterBlockConstant(buffer.rotation(id));
+      problem.SetParameterBlockConstant(buffer.translation(id));
     }
   }
-  FixGauge(config, problem_images, &rec, &problem);
+  FixGauge(config, problem_images, rec, &buffer, &problem);
 
-  const std::vector<int> held = HeldIntrinsics(options.intrinsics);
-  for (const camera_t id : problem_cameras) {
-    double* params = rec.camera(id).params.data();
-    if (config.constant_cameras.count(id) || held.size() == Camera::kNumParams)
-      problem.SetParameterBlockConstant(params);
+  // A camera's own block holds what the options hold and every shared parameter (unused when
+  // it is in a group, held when its size formed none); a group block holds what the options
+  // hold and every parameter that is not shared.
+  const auto hold = [&problem](double* block, unsigned held_mask) {
+    std::vector<int> held;
+    for (int i = 0; i < Camera::kNumParams; ++i)
+      if ((held_mask >> i) & 1u) held.push_back(i);
+    if (held.size() == Camera::kNumParams)
+      problem.SetParameterBlockConstant(block);
     else if (!held.empty())
-      problem.SetManifold(params, new ceres::SubsetManifold(Camera::kNumParams, held));
-  }
+      problem.SetManifold(block, new ceres::SubsetManifold(Camera::kNumParams, held));
+  };
+  unsigned held_mask = 0;
+  for (const int i : HeldIntrinsics(options.intrinsics)) held_mask |= 1u << i;
+  const unsigned all = (1u << Camera::kNumParams) - 1;
+  for (const camera_t id : problem_cameras)
+    hold(buffer.camera(id), config.constant_cameras.count(id) ? all : held_mask | shared_mask);
+  for (const auto& size : shared_sizes)
+    if (double* group = buffer.group(size); problem.HasParameterBlock(group))
+      hold(group, held_mask | (all & ~shared_mask));
   for (const point3D_t id : problem_points)
-    if (config.constant_points.count(id))
-      problem.SetParameterBlockConstant(rec.point3D(id).xyz.data());
+    if (config.constant_points.count(id)) problem.SetParameterBlockConstant(buffer.point(id));
 
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
@@ -242,25 +385,25 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
                             ? ChooseSolver(config.variable_pose_images.size())
                             : options.solver;
   result.solver = ConfigureLinearSolver(solver, &solver_options);
-  // Schur ordering: points are eliminated first, then cameras and poses.
+  // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
+  // orders blocks by address, which the buffer makes the id order.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (const point3D_t id : problem_points)
-    ordering->AddElementToGroup(rec.point3D(id).xyz.data(), 0);
+  for (const point3D_t id : problem_points) ordering->AddElementToGroup(buffer.point(id), 0);
   for (const image_t id : problem_images) {
-    Rigid3d& pose = rec.image(id).cam_from_world;
-    ordering->AddElementToGroup(pose.rotation.coeffs().data(), 1);
-    ordering->AddElementToGroup(pose.translation.data(), 1);
+    ordering->AddElementToGroup(buffer.rotation(id), 1);
+    ordering->AddElementToGroup(buffer.translation(id), 1);
   }
-  for (const camera_t id : problem_cameras)
-    ordering->AddElementToGroup(rec.camera(id).params.data(), 1);
+  for (const camera_t id : problem_cameras) ordering->AddElementToGroup(buffer.camera(id), 1);
+  for (const auto& size : shared_sizes)
+    if (double* group = buffer.group(size); problem.HasParameterBlock(group))
+      ordering->AddElementToGroup(group, 1);
   solver_options.linear_solver_ordering = ordering;
 
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &problem, &summary);
   if (options.verbose) std::printf("%s\n", summary.FullReport().c_str());
 
-  for (const image_t id : config.variable_pose_images)
-    if (problem_images.count(id)) rec.image(id).cam_from_world.rotation.normalize();
+  buffer.CopyTo(config, &rec);
   result.success = summary.IsSolutionUsable();
   result.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
   result.final_rms_px = RmsError(rec, observations);

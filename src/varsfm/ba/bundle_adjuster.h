@@ -4,7 +4,15 @@
 // point, k1, k2 - each can be held), the poses and the 3D points, with Ceres.
 //
 // Parameter sharing: images pointing at the same camera_id share one 7-parameter block, so
-// "one camera for all images" and "one camera per image" (varying intrinsics) are the same code.
+// "one camera for all images" and "one camera per image" (varying intrinsics) are the same code;
+// IntrinsicsOptions::shared_per_size adds one block per image size for the parameters it names.
+//
+// Determinism: the parameters are copied into one contiguous buffer in id order before solving
+// and back afterwards. Ceres orders the blocks of each elimination group by address, so with the
+// blocks at their reconstruction's (heap) addresses the order, and the rounding of the solver's
+// sums, changed from run to run; in the buffer it is the same in every run. With more than one
+// thread Ceres still accumulates in a scheduling-dependent order: num_threads = 1 gives results
+// that are identical bit for bit.
 //
 // Gauge (the 7-dof similarity ambiguity of a projective-metric reconstruction): when fewer than
 // two images of the problem have a constant pose, RunBundleAdjustment fixes it itself:
@@ -15,6 +23,7 @@
 //    origin, as COLMAP does). Two or more constant poses fix the gauge on their own.
 #include <set>
 #include <string>
+#include <vector>
 #include <vector>
 
 #include "varsfm/scene/reconstruction.h"
@@ -31,6 +40,16 @@ struct IntrinsicsOptions {
   bool refine_principal_point = false;
   bool refine_k1 = true;
   bool refine_k2 = true;
+  // Parameters (Camera::Param indices) estimated once per image size: all variable cameras of
+  // that size take them from one shared block, the rest from their own. The refine_* flags
+  // above say which are free, wherever they live. {kU0, kV0} with refine_principal_point is
+  // the mapper's default: one image cannot separate its principal point from its rotation
+  // (docs/mapper.md: refined per image it costs 2.3 deg on fountain-P11), but the images of
+  // one physical camera share it, and many views pin it down. {kAspect, kSkew, kU0, kV0, kK1,
+  // kK2} is "focal length per image, the rest shared". Sizes with fewer than
+  // `min_images_to_share` variable cameras form no group: there the shared parameters are held.
+  std::vector<int> shared_per_size;
+  int min_images_to_share = 3;
 };
 
 struct BundleAdjustmentOptions {
@@ -54,7 +73,10 @@ struct BundleAdjustmentOptions {
   double function_tolerance = 1e-6;
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
-  int num_threads = 0;  // 0: std::thread::hardware_concurrency()
+  // 1 by default: the result is then the same bit for bit in every run (see above); 0 uses
+  // std::thread::hardware_concurrency(). Measured on fountain-P11 (2 cores): the whole mapper
+  // takes 7 % longer single-threaded.
+  int num_threads = 1;
   Solver solver = Solver::kAuto;
   IntrinsicsOptions intrinsics;
   bool verbose = false;  // Ceres progress to stdout

@@ -44,4 +44,32 @@ class ReprojectionCost {
   Eigen::Vector2d observed_;
 };
 
+// The same residual with some camera parameters taken from a block shared by several cameras
+// (IntrinsicsOptions::shared_per_size): parameter i comes from `group` when bit i of
+// `shared_mask` is set, else from the image's own `camera` block.
+class SharedIntrinsicsReprojectionCost {
+ public:
+  SharedIntrinsicsReprojectionCost(const Eigen::Vector2d& observed, unsigned shared_mask)
+      : cost_(observed), shared_mask_(shared_mask) {}
+
+  template <typename T>
+  bool operator()(const T* camera, const T* group, const T* rotation, const T* translation,
+                  const T* point, T* residuals) const {
+    T params[Camera::kNumParams];
+    for (int i = 0; i < Camera::kNumParams; ++i)
+      params[i] = (shared_mask_ >> i) & 1u ? group[i] : camera[i];
+    return cost_(params, rotation, translation, point, residuals);
+  }
+
+  static ceres::CostFunction* Create(const Eigen::Vector2d& observed, unsigned shared_mask) {
+    return new ceres::AutoDiffCostFunction<SharedIntrinsicsReprojectionCost, 2,
+                                           Camera::kNumParams, Camera::kNumParams, 4, 3, 3>(
+        new SharedIntrinsicsReprojectionCost(observed, shared_mask));
+  }
+
+ private:
+  ReprojectionCost cost_;
+  unsigned shared_mask_;
+};
+
 }  // namespace varsfm

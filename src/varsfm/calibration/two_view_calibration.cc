@@ -115,6 +115,7 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
 
   BundleAdjustmentOptions ba;
   ba.loss_scale_px = options.loss_scale_px;
+  ba.num_threads = options.num_threads;
   // A degenerate pair cannot determine the focal lengths: hold the prior.
   ba.intrinsics.refine_focal = !result.degenerate;
   ba.intrinsics.refine_k1 = ba.intrinsics.refine_k2 = options.refine_distortion;

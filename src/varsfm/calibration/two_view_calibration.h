@@ -29,6 +29,7 @@ struct TwoViewCalibrationOptions {
   double min_median_triangulation_angle_deg = 1.0;
   bool refine_distortion = true;
   double loss_scale_px = 1.0;  // Cauchy scale of the refinement
+  int num_threads = 1;         // of the refinement (1: reproducible bit for bit)
 };
 
 struct TwoViewCalibration {

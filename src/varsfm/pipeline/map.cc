@@ -152,6 +152,7 @@ MapResult RunMapping(const MapOptions& options) {
   result.reconstruction = std::move(ws.reconstruction);
 
   IncrementalMapperOptions mapper_options = options.mapper;
+  if (options.sharing == IntrinsicsSharing::kFocalPerImage) mapper_options.share_all_but_focal = true;
   Progress progress("map", result.reconstruction.images().size());
   size_t shown = 0;
   mapper_options.progress = [&](size_t registered, size_t, double rms) {

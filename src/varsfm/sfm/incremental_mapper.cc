@@ -32,8 +32,12 @@ struct Correspondence2D3D {
   point3D_t point3D_id;
 };
 
-// The intrinsics the bundle adjustments refine, from the mapper's policy.
-IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o) {
+// The intrinsics the bundle adjustments refine, from the mapper's policy. Parameters shared
+// per image size are estimated in the adjustments of the whole model (`whole_model`: two-view
+// and global; groups need min_images_to_share images, so the two-view one holds them) and held
+// at their current values in local ones and in the registration of a new image, so that every
+// camera of a size keeps the same values.
+IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o, bool whole_model) {
   IntrinsicsOptions in;
   in.refine_focal = true;
   in.refine_aspect = o.refine_aspect;
@@ -41,6 +45,22 @@ IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o) {
   in.refine_principal_point = o.refine_principal_point;
   in.refine_k1 = o.refine_distortion;
   in.refine_k2 = o.refine_distortion;
+  const bool share_pp = o.share_principal_point || o.share_all_but_focal;
+  if (o.share_all_but_focal)
+    in.shared_per_size = {Camera::kAspect, Camera::kSkew, Camera::kU0,
+                          Camera::kV0,     Camera::kK1,   Camera::kK2};
+  else if (share_pp && !o.refine_principal_point)
+    in.shared_per_size = {Camera::kU0, Camera::kV0};
+  if (o.share_principal_point && !o.refine_principal_point)
+    in.refine_principal_point = whole_model;
+  if (!whole_model)
+    for (const int i : in.shared_per_size) {
+      if (i == Camera::kAspect) in.refine_aspect = false;
+      if (i == Camera::kSkew) in.refine_skew = false;
+      if (i == Camera::kU0) in.refine_principal_point = false;
+      if (i == Camera::kK1) in.refine_k1 = false;
+      if (i == Camera::kK2) in.refine_k2 = false;
+    }
   return in;
 }
 
@@ -208,6 +228,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   // Two views cannot separate k1, k2 from the focal lengths well (tests/calibration): the
   // distortion is estimated once more views are in.
   calib_options.refine_distortion = false;
+  calib_options.num_threads = options_.num_threads;
   const TwoViewCalibration calib =
       CalibrateTwoView(in1, in2, camera1.width, camera1.height, camera2.width, camera2.height,
                        geometry.F, calib_options);
@@ -235,7 +256,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
 
   // Two-view bundle adjustment (eq. 34) with the mapper's intrinsics policy.
   BundleAdjustmentOptions ba;
-  ba.intrinsics = MapperIntrinsics(options_);
+  ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   ba.num_threads = options_.num_threads;
   RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
   rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
@@ -322,7 +343,7 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
   const Camera neighbour_camera = rec->CameraOf(neighbour);
 
   AbsolutePoseRefinementOptions refine;
-  refine.intrinsics = MapperIntrinsics(options_);
+  refine.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
   if (shared_camera) refine.intrinsics = IntrinsicsOptions{false, false, false, false, false, false};
   refine.intrinsics.refine_k1 = refine.intrinsics.refine_k2 = false;  // few points: BA does it
 
@@ -363,6 +384,10 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
         from_dlt.focal() = 0.5 * (K(0, 0) + K(1, 1));
         if (options_.refine_aspect) from_dlt.params[Camera::kAspect] = K(1, 1) / K(0, 0);
         if (options_.refine_skew) from_dlt.params[Camera::kSkew] = K(0, 1);
+        // Parameters shared per image size start from the group's current values.
+        if (neighbour_camera.width == camera.width && neighbour_camera.height == camera.height)
+          for (const int i : MapperIntrinsics(options_, true).shared_per_size)
+            from_dlt.params[i] = neighbour_camera.params[i];
         if (options_.refine_principal_point) {
           from_dlt.params[Camera::kU0] = K(0, 2);
           from_dlt.params[Camera::kV0] = K(1, 2);
@@ -493,7 +518,7 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
   const size_t m0 = std::min<size_t>(options_.local_ba_images, registration_order_.size());
   const std::vector<image_t> window(registration_order_.end() - m0, registration_order_.end());
   BundleAdjustmentOptions ba;
-  ba.intrinsics = MapperIntrinsics(options_);
+  ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
   ba.num_threads = options_.num_threads;
   ba.max_iterations = 25;  // as COLMAP's local BA: the global ones finish the job
   ba.function_tolerance = options_.local_ba_function_tolerance;
@@ -511,7 +536,7 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
                                                bool retriangulate) {
   Timer timer;
   BundleAdjustmentOptions ba;
-  ba.intrinsics = MapperIntrinsics(options_);
+  ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   ba.num_threads = options_.num_threads;
   ba.max_iterations = 50;
   ba.function_tolerance = options_.global_ba_function_tolerance;

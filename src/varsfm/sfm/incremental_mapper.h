@@ -54,6 +54,12 @@ struct IncrementalMapperOptions {
   // real sequences holding the principal point, aspect and skew is more accurate (see
   // docs/mapper.md).
   bool refine_principal_point = false;
+  // One principal point per image size, estimated in the global adjustments from all images
+  // of that size (IntrinsicsOptions::share_principal_point); new images start from it.
+  bool share_principal_point = true;
+  // "Focal length per image, the rest shared": aspect, skew, principal point and k1, k2 are
+  // one set per image size (a zoom lens on one body), estimated in the global adjustments.
+  bool share_all_but_focal = false;
   bool refine_aspect = false;
   bool refine_skew = false;
   bool refine_distortion = true;
@@ -62,7 +68,9 @@ struct IncrementalMapperOptions {
   // next in sequence order for ordered input (video, numbered photos).
   bool sequential_order = false;
 
-  int num_threads = 0;
+  // Bundle adjustment threads; 1 (default) is bit-for-bit reproducible, 0 uses all cores
+  // (faster, equal only to rounding; see ba/bundle_adjuster.h).
+  int num_threads = 1;
   uint64_t seed = kDefaultSeed;
   // Called after each registration: (registered, total, RMS reprojection error px).
   std::function<void(size_t, size_t, double)> progress;
