@@ -8,7 +8,7 @@
 
 #include <ceres/ceres.h>
 
-#include "varsfm/ba/reprojection_cost.h"
+#include "varsfm/ba/analytic_reprojection_cost.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -327,11 +327,11 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     const Camera& camera = rec.camera(image.camera_id);
     const Eigen::Vector2d& xy = image.points2D[o.point2D_idx].xy;
     if (double* group = buffer.group(camera)) {
-      problem.AddResidualBlock(SharedIntrinsicsReprojectionCost::Create(xy, shared_mask), loss,
+      problem.AddResidualBlock(new AnalyticSharedIntrinsicsReprojectionCost(xy, shared_mask), loss,
                                buffer.camera(image.camera_id), group, buffer.rotation(o.image_id),
                                buffer.translation(o.image_id), buffer.point(o.point3D_id));
     } else {
-      problem.AddResidualBlock(ReprojectionCost::Create(xy), loss, buffer.camera(image.camera_id),
+      problem.AddResidualBlock(new AnalyticReprojectionCost(xy), loss, buffer.camera(image.camera_id),
                                buffer.rotation(o.image_id), buffer.translation(o.image_id),
                                buffer.point(o.point3D_id));
     }
