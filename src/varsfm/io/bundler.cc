@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 
 #include "varsfm/util/error.h"
@@ -15,14 +16,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WarnIfNotBundlerCamera(const Camera& camera) {
+// How far the camera is from Bundler's model (aspect 1, no skew, principal point at the
+// centre): the principal point offset in px, or infinity for an aspect or skew Bundler lacks.
+double BundlerModelDeviation(const Camera& camera) {
   const auto& p = camera.params;
-  const double du = p[Camera::kU0] - 0.5 * camera.width, dv = p[Camera::kV0] - 0.5 * camera.height;
-  if (p[Camera::kAspect] != 1.0 || p[Camera::kSkew] != 0.0 || std::hypot(du, dv) > 0.5)
-    warn(
-        "camera {}: aspect {:.4f}, skew {:.3g}, principal point offset ({:.1f}, {:.1f}) px are "
-        "not representable in Bundler's format and are dropped",
-        camera.camera_id, p[Camera::kAspect], p[Camera::kSkew], du, dv);
+  if (p[Camera::kAspect] != 1.0 || p[Camera::kSkew] != 0.0)
+    return std::numeric_limits<double>::infinity();
+  return std::hypot(p[Camera::kU0] - 0.5 * camera.width, p[Camera::kV0] - 0.5 * camera.height);
 }
 
 void WriteList(const Reconstruction& rec, const fs::path& file) {
@@ -41,13 +41,18 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
   if (!out) Fail("{}: cannot open for writing", file.string());
   out << "# Bundle file v0.3\n" << fmt::format("{} {}\n", index.size(), rec.points3D().size());
   const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
+  size_t num_dropped = 0;
+  double worst_deviation = 0.0;
   for (const auto& [id, image] : rec.images()) {
     if (!image.registered) {  // Bundler's marker of a camera it did not estimate
       out << "0 0 0\n0 0 0\n0 0 0\n0 0 0\n0 0 0\n";
       continue;
     }
     const Camera& camera = rec.camera(image.camera_id);
-    WarnIfNotBundlerCamera(camera);
+    if (const double deviation = BundlerModelDeviation(camera); deviation > 0.5) {
+      ++num_dropped;
+      worst_deviation = std::max(worst_deviation, deviation);
+    }
     const Eigen::Matrix3d R = D * image.cam_from_world.R();
     const Eigen::Vector3d t = D * image.cam_from_world.translation;
     out << fmt::format("{} {} {}\n", camera.focal(), camera.params[Camera::kK1],
@@ -55,6 +60,10 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
     for (int r = 0; r < 3; ++r) out << fmt::format("{} {} {}\n", R(r, 0), R(r, 1), R(r, 2));
     out << fmt::format("{} {} {}\n", t.x(), t.y(), t.z());
   }
+  if (num_dropped > 0)
+    warn("{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
+         "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
+         file.string(), num_dropped, worst_deviation);
   for (const auto& [id, point] : rec.points3D()) {
     out << fmt::format("{} {} {}\n{} {} {}\n{}", point.xyz.x(), point.xyz.y(), point.xyz.z(),
                        point.color[0], point.color[1], point.color[2], point.track.size());
