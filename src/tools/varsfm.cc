@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
     cmd->add_option("--max-image-size", extract.sift.max_image_size,
                     "larger images are downscaled for extraction")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--contrast-threshold", extract.sift.contrast_threshold,
+                    "SIFT contrast threshold (OpenCV's; lower: more, weaker features)")
+        ->capture_default_str()->check(CLI::PositiveNumber);
     cmd->add_option("--max-frames", extract.keyframes.max_frames, "video keyframe cap (0: none)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
     cmd->add_option("--threads", extract.threads, "worker threads (0: all cores)")

@@ -30,8 +30,11 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   const float sy = static_cast<float>(gray.rows) / input.rows;
 
   // nfeatures makes OpenCV keep the strongest keypoints by response before computing
-  // descriptors, so the cap costs no descriptor work.
-  cv::Ptr<cv::SIFT> sift = cv::SIFT::create(options.max_features, 3, options.contrast_threshold,
+  // descriptors, so the cap costs little descriptor work. OpenCV counts every orientation of a
+  // location as a keypoint, COLMAP (like Lowe) caps locations and keeps their orientations, so
+  // OpenCV is asked for a margin and the cap on locations is applied below.
+  const int opencv_cap = options.max_features + options.max_features / 4;
+  cv::Ptr<cv::SIFT> sift = cv::SIFT::create(opencv_cap, 3, options.contrast_threshold,
                                             options.edge_threshold, 1.6);
   std::vector<cv::KeyPoint> cv_keypoints;
   cv::Mat cv_descriptors;
@@ -48,7 +51,24 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     return std::tie(kb.response, ka.pt.y, ka.pt.x, ka.angle, ka.size, a) <
            std::tie(ka.response, kb.pt.y, kb.pt.x, kb.angle, kb.size, b);
   });
-  if (order.size() > static_cast<size_t>(options.max_features)) order.resize(options.max_features);
+  // Keep the strongest `max_features` locations with all their orientations (the extra
+  // orientations of a location are separate OpenCV keypoints with the same position, size and
+  // response, adjacent in this order).
+  {
+    size_t kept_end = 0;
+    int locations = 0;
+    for (size_t i = 0; i < order.size(); ++i) {
+      const cv::KeyPoint& kp = cv_keypoints[order[i]];
+      const bool same_location =
+          i > 0 && [&] {
+            const cv::KeyPoint& prev = cv_keypoints[order[i - 1]];
+            return prev.pt == kp.pt && prev.size == kp.size && prev.response == kp.response;
+          }();
+      if (!same_location && ++locations > options.max_features) break;
+      kept_end = i + 1;
+    }
+    order.resize(kept_end);
+  }
 
   ImageFeatures features;
   features.keypoints.reserve(order.size());
