@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
 
 #include "varsfm/ba/bundle_adjuster.h"
 #include "varsfm/calibration/bougnoux.h"
+#include "varsfm/calibration/focal_uncertainty.h"
 #include "varsfm/geometry/essential.h"
 #include "varsfm/geometry/fundamental.h"
 #include "varsfm/geometry/triangulation.h"
@@ -119,9 +123,31 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
   // A degenerate pair cannot determine the focal lengths: hold the prior.
   ba.intrinsics.refine_focal = !result.degenerate;
   ba.intrinsics.refine_k1 = ba.intrinsics.refine_k2 = options.refine_distortion;
-  const BundleAdjustmentSummary summary =
+  BundleAdjustmentSummary summary =
       RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(rec), &rec);
   if (!summary.success) return result;
+  if (!result.degenerate) {
+    // Noise level: the refinement's own residual per coordinate, at least a quarter pixel.
+    const double sigma = std::max(summary.final_rms_px / std::sqrt(2.0), 0.25);
+    const auto stddev = TwoViewLogFocalStdDev(rec, 1, 2, sigma, options.refine_distortion);
+    constexpr double kUndetermined = std::numeric_limits<double>::infinity();
+    result.log_focal_std1 = stddev ? stddev->first : kUndetermined;
+    result.log_focal_std2 = stddev ? stddev->second : kUndetermined;
+    if (std::max(result.log_focal_std1, result.log_focal_std2) > options.max_log_focal_std) {
+      result.degenerate = true;
+      result.degeneracy_reason = fmt::format(
+          "focal lengths poorly determined (std of log f {:.3f}, {:.3f})", result.log_focal_std1,
+          result.log_focal_std2);
+      result.camera1.focal() =
+          options.prior_focal1.value_or(options.prior_focal_factor * std::max(w1, h1));
+      result.camera2.focal() =
+          options.prior_focal2.value_or(options.prior_focal_factor * std::max(w2, h2));
+      if (build() < 0.0 || rec.points3D().size() < 8) return result;
+      ba.intrinsics.refine_focal = false;
+      summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(rec), &rec);
+      if (!summary.success) return result;
+    }
+  }
 
   result.camera1 = rec.camera(1);
   result.camera2 = rec.camera(2);
