@@ -550,7 +550,11 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
     // Re-triangulation: with better poses and intrinsics, more tracks pass the checks.
     size_t added = 0;
     for (const image_t id : registration_order_) added += TriangulateImage(rec, id);
-    if (added > 0) {
+    debug("re-triangulation: {} observations added to {} points", added, rec->points3D().size());
+    // Another adjustment only when re-triangulation changed the model noticeably: on
+    // fountain-P11 the final one adds 16 observations to 60,000 and a second adjustment cost
+    // 1.1 s (a sixth of the mapper) for no measurable change.
+    if (added > 0.01 * rec->NumObservations()) {
       RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
       rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
       rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
