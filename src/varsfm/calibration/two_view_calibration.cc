@@ -123,7 +123,7 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
   // A degenerate pair cannot determine the focal lengths: hold the prior.
   ba.intrinsics.refine_focal = !result.degenerate;
   ba.intrinsics.refine_k1 = ba.intrinsics.refine_k2 = options.refine_distortion;
-  BundleAdjustmentSummary summary =
+  const BundleAdjustmentSummary summary =
       RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(rec), &rec);
   if (!summary.success) return result;
   if (!result.degenerate) {
@@ -133,19 +133,14 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
     constexpr double kUndetermined = std::numeric_limits<double>::infinity();
     result.log_focal_std1 = stddev ? stddev->first : kUndetermined;
     result.log_focal_std2 = stddev ? stddev->second : kUndetermined;
+    // Flagged, but the refined values are kept: they fit the data as well as any other in the
+    // valley and are a better start than the prior for the mapper's later adjustments, which
+    // prefer pairs that are not flagged (sfm/incremental_mapper.cc).
     if (std::max(result.log_focal_std1, result.log_focal_std2) > options.max_log_focal_std) {
       result.degenerate = true;
       result.degeneracy_reason = fmt::format(
           "focal lengths poorly determined (std of log f {:.3f}, {:.3f})", result.log_focal_std1,
           result.log_focal_std2);
-      result.camera1.focal() =
-          options.prior_focal1.value_or(options.prior_focal_factor * std::max(w1, h1));
-      result.camera2.focal() =
-          options.prior_focal2.value_or(options.prior_focal_factor * std::max(w2, h2));
-      if (build() < 0.0 || rec.points3D().size() < 8) return result;
-      ba.intrinsics.refine_focal = false;
-      summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(rec), &rec);
-      if (!summary.success) return result;
     }
   }
 

@@ -27,9 +27,9 @@ struct TwoViewCalibrationOptions {
   // Below this median triangulation angle (degrees) the pair has too little parallax (pure
   // rotation, or too short a baseline): F, and the focal lengths from it, are meaningless.
   double min_median_triangulation_angle_deg = 1.0;
-  // After the refinement: the pair is degenerate when the standard deviation of log f1 or
-  // log f2 (focal_uncertainty.h, with the refinement's own residual as the noise level)
-  // exceeds this; the prior focal lengths are then used and held.
+  // After the refinement: the pair is flagged degenerate when the standard deviation of log f1
+  // or log f2 (focal_uncertainty.h, with the refinement's own residual as the noise level)
+  // exceeds this; the refined values are kept (the caller decides whether to use the pair).
   // 0.015 measured on tests/calibration's pairs (0.5 px noise, 500 points, k1, k2 held):
   // well-determined pairs 0.004-0.011 with focal errors <= 0.85 %, the two weak ones
   // 0.021-0.030 with errors of 10-11 %.

@@ -124,13 +124,14 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   const int trials = std::min<int>(options_.max_initial_pair_trials, candidates.size());
   std::vector<PairGeometry> geometries;
   for (int k = 0; k < trials; ++k) geometries.push_back(EstimatePairGeometry(*rec, candidates[k]));
+  // Pass 1: well-conditioned pairs whose calibration is not flagged; pass 2: any pair.
   bool initialized = false;
-  for (const bool want_well_conditioned : {true, false}) {
+  for (const bool first_pass : {true, false}) {
     for (int k = 0; k < trials && !initialized; ++k) {
-      if (!geometries[k].success || geometries[k].well_conditioned != want_well_conditioned)
-        continue;
+      if (!geometries[k].success || (first_pass && !geometries[k].well_conditioned)) continue;
       *rec = empty;
-      initialized = Initialize(rec, candidates[k], geometries[k], &summary);
+      initialized = Initialize(rec, candidates[k], geometries[k],
+                               /*accept_degenerate=*/!first_pass, &summary);
     }
   }
   if (!initialized) {
@@ -213,7 +214,8 @@ IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
 }
 
 bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
-                                   const PairGeometry& geometry, MapperSummary* summary) {
+                                   const PairGeometry& geometry, bool accept_degenerate,
+                                   MapperSummary* summary) {
   const image_t id1 = pair.image_id1, id2 = pair.image_id2;
   const FeatureMatches& inlier_matches = geometry.inlier_matches;
   std::vector<Eigen::Vector2d> in1, in2;
@@ -235,6 +237,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   if (!calib.success) return false;
   debug("initial pair {} {}: f1 {:.1f} f2 {:.1f} degenerate {} ({})", id1, id2,
         calib.camera1.focal(), calib.camera2.focal(), calib.degenerate, calib.degeneracy_reason);
+  if (calib.degenerate && !accept_degenerate) return false;
 
   const bool shared = rec->image(id1).camera_id == rec->image(id2).camera_id;
   camera1.params = calib.camera1.params;

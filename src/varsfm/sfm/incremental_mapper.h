@@ -116,8 +116,9 @@ class IncrementalMapper {
   };
   PairGeometry EstimatePairGeometry(const Reconstruction& rec,
                                     const InitialPairCandidate& pair) const;
+  // `accept_degenerate`: whether a pair whose self-calibration is flagged degenerate is used.
   bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
-                  const PairGeometry& geometry, MapperSummary* summary);
+                  const PairGeometry& geometry, bool accept_degenerate, MapperSummary* summary);
   bool RegisterImage(Reconstruction* rec, image_t image_id);
   size_t TriangulateImage(Reconstruction* rec, image_t image_id);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
