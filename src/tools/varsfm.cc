@@ -36,6 +36,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_option("--global-ba-growth", m.global_ba_growth,
                   "further global BA when the model grew by this factor (0: never)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_flag("!--no-final-global-ba", m.final_global_ba,
+                "skip the global BA at the end (with --global-ba-images above the image count "
+                "and --global-ba-growth 0: local BA only)");
   cmd->add_option("--min-correspondences", m.min_correspondences, "n0: 2D-3D needed (>= 6)")
       ->capture_default_str()->check(CLI::Range(6, 1000000));
   cmd->add_flag("--refine-principal-point", m.refine_principal_point,

@@ -180,7 +180,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   }
 
   // 3. Final global adjustment (with re-triangulation and filtering).
-  GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
+  if (options_.final_global_ba) GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
   rec->UpdatePointErrors();
   summary.num_registered = rec->NumRegisteredImages();
   summary.success = true;

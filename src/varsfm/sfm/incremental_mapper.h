@@ -41,6 +41,9 @@ struct IncrementalMapperOptions {
   // Beyond the paper: a further global BA each time the model has grown by this factor since
   // the last one (0 disables: the paper's schedule).
   double global_ba_growth = 1.4;
+  // The paper's global adjustment at the end; off (with no M0 / growth adjustments) gives the
+  // local-only, Mouragnon-like baseline of the benchmarks.
+  bool final_global_ba = true;
 
   int min_correspondences = 6;  // n0: the DLT needs six 2D-3D correspondences
   int min_registration_inliers = 15;
