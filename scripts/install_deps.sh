@@ -4,7 +4,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libceres-dev libsuitesparse-dev libopencv-dev
       libsqlite3-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
-      libgtest-dev libgmock-dev libbenchmark-dev ffmpeg libexif-dev libcgal-dev)
+      libgtest-dev libgmock-dev libbenchmark-dev ffmpeg libexif-dev libcgal-dev
+      libtinygltf-dev)
 if [[ "${1:-}" == "--with-colmap" ]]; then pkgs+=(colmap); fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -14,7 +14,9 @@
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
 #include "varsfm/pipeline/mesh.h"
+#include "varsfm/pipeline/render.h"
 #include "varsfm/pipeline/run.h"
+#include "varsfm/pipeline/texture.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -136,13 +138,16 @@ int main(int argc, char** argv) {
   // run: photos or a video -> model, every stage with its defaults.
   varsfm::RunOptions run;
   {
-    CLI::App* cmd = app.add_subcommand("run", "the whole chain: extract, match, map");
+    CLI::App* cmd =
+        app.add_subcommand("run", "the whole chain: extract, match, map, densify, mesh, texture");
     cmd->add_option("input", run.input, "folder of photos, or a video file")->required();
     cmd->add_option("output", run.output, "output folder")->required();
     cmd->add_option("--matching", run.matching, "auto|exhaustive|sequential")
         ->capture_default_str()->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
     cmd->add_option("--max-features", run.extract.sift.max_features, "strongest features kept")
         ->capture_default_str()->check(CLI::PositiveNumber);
+    cmd->add_option("--until", run.until, "last stage: sparse | dense | mesh | texture")
+        ->capture_default_str()->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
     AddMapperOptions(cmd, &run.map);
     cmd->callback([&run] { varsfm::RunAll(run); });
   }
@@ -150,17 +155,25 @@ int main(int argc, char** argv) {
   // evaluate: a COLMAP model against Strecha ground-truth cameras.
   varsfm::EvaluateCommandOptions evaluate;
   {
-    CLI::App* cmd = app.add_subcommand("evaluate", "accuracy of a model against ground truth");
+    CLI::App* cmd = app.add_subcommand(
+        "evaluate", "accuracy against ground truth (--gt) and/or render vs. photo (--render)");
     cmd->add_option("model", evaluate.model_dir, "COLMAP model folder (text or binary)")
         ->required();
-    cmd->add_option("--gt", evaluate.gt_dir, "folder of Strecha NAME.camera files")->required();
+    cmd->add_option("--gt", evaluate.gt_dir, "folder of Strecha NAME.camera files");
+    cmd->add_flag("--render", evaluate.render,
+                  "render the textured model from every registered camera: PSNR and coverage");
+    cmd->add_option("--textured", evaluate.textured,
+                    "--render: model.obj or its folder (default MODEL/../textured)");
+    cmd->add_option("--images", evaluate.image_dir, "--render: the photos");
+    cmd->add_option("--render-dir", evaluate.render_dir,
+                    "--render: also write the renderings here");
     cmd->add_option("--json", evaluate.json_path, "also write the report as JSON");
     cmd->add_option("--inlier-threshold", evaluate.evaluation.alignment.inlier_threshold,
                     "robust alignment: centres farther than this (GT units) are outliers "
                     "(0: least squares over all)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
     cmd->callback([&evaluate] {
-      std::fputs(varsfm::FormatReport(varsfm::RunEvaluation(evaluate)).c_str(), stdout);
+      std::fputs(varsfm::RunEvaluateCommand(evaluate).c_str(), stdout);
     });
   }
 
@@ -172,6 +185,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--images", demo.scene.num_images, "images to render")
         ->capture_default_str()->check(CLI::Range(3, 200));
     cmd->add_option("--seed", demo.scene.seed, "scene seed")->capture_default_str();
+    cmd->add_option("--until", demo.run.until, "last stage: sparse | dense | mesh | texture")
+        ->capture_default_str()->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
     cmd->callback([&demo] { varsfm::RunDemo(demo); });
   }
 
@@ -211,6 +226,46 @@ int main(int argc, char** argv) {
                     "Poisson: drop faces farther than this x point spacing from the data (0: keep)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
     cmd->callback([&mesh] { varsfm::RunMesh(mesh); });
+  }
+
+  // texture: mesh + sparse model + photos -> textured OBJ (atlas PNG) and binary glTF.
+  varsfm::TextureCommandOptions texture;
+  {
+    CLI::App* cmd = app.add_subcommand("texture", "texture a mesh from the registered photos");
+    cmd->add_option("--mesh", texture.mesh, "mesh PLY (mesh.ply)")->required();
+    cmd->add_option("--sparse", texture.sparse, "sparse model folder (COLMAP)")->required();
+    cmd->add_option("--images", texture.image_dir, "image folder")->required();
+    cmd->add_option("--output", texture.output, "output folder (textured/, model.glb)")
+        ->required();
+    cmd->add_option("--smoothness", texture.texture.selection.smoothness,
+                    "Potts weight grouping faces into charts (0: best image per face)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->add_option("--depth-tolerance", texture.texture.selection.depth_tolerance,
+                    "visibility: a face is occluded when the mesh is nearer by this fraction")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--min-cos", texture.texture.selection.min_cos_angle,
+                    "faces seen more obliquely than acos(this) are not textured from a view")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--padding", texture.texture.padding, "photo pixels kept around each chart")
+        ->capture_default_str()->check(CLI::Range(0, 64));
+    cmd->add_option("--threads", texture.texture.selection.num_threads, "threads (0: all cores)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    cmd->callback([&texture] { varsfm::RunTexture(texture); });
+  }
+
+  // render: the textured model seen from a registered camera (software rasteriser).
+  varsfm::RenderCommandOptions render;
+  {
+    CLI::App* cmd =
+        app.add_subcommand("render", "render the textured model from a registered camera");
+    cmd->add_option("--model", render.model, "output folder of texture (OUT)")->required();
+    cmd->add_option("--camera", render.camera, "image name in the sparse model")->required();
+    cmd->add_option("--output", render.output, "image file to write (PNG)")->required();
+    cmd->add_option("--sparse", render.sparse, "sparse model (default OUT/sparse)");
+    cmd->add_option("--textured", render.textured,
+                    "model.obj or its folder (default OUT/textured)");
+    cmd->add_flag("--mask", render.write_mask, "also write NAME_mask.png (255: mesh covers)");
+    cmd->callback([&render] { varsfm::RunRender(render); });
   }
 
   try {

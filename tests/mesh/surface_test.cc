@@ -3,6 +3,8 @@
 // spacing that bounds the method's resolution.
 #include "varsfm/mesh/surface.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -132,6 +134,33 @@ TEST(Surface, AdvancingFrontInterpolatesTheData) {
     volume += mesh.vertices[f[0]].dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6;
   }
   EXPECT_GT(volume, 0);
+}
+
+TEST(Surface, PoissonIsDeterministic) {
+  // CGAL's mesher draws its start points from a time-seeded generator (reseeded in
+  // surface.cc); the same cloud must give the same mesh, also twice in one process.
+  const PointCloud cloud = Sphere(2000, -0.3);
+  // Within one process the order of vertices and faces follows CGAL's memory layout, so the
+  // meshes are compared as sets of oriented triangles by their corner coordinates.
+  const auto triangles = [](const TriangleMesh& mesh) {
+    std::vector<std::array<double, 9>> out;
+    for (const Eigen::Vector3i& f : mesh.faces) {
+      std::array<std::array<double, 3>, 3> c;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d& v = mesh.vertices[f[k]];
+        c[k] = {v.x(), v.y(), v.z()};
+      }
+      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());  // keeps orientation
+      out.push_back(
+          {c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const TriangleMesh a = ReconstructSurface(cloud, {});
+  const TriangleMesh b = ReconstructSurface(cloud, {});
+  ASSERT_FALSE(a.faces.empty());
+  EXPECT_EQ(triangles(a), triangles(b));
 }
 
 TEST(Surface, LargeCloudsAreDownsampledToTheLimit) {

@@ -27,7 +27,10 @@ nlohmann::json ReadJson(const std::filesystem::path& file) {
 nlohmann::json RunAndEvaluate(const std::filesystem::path& set, const TempDir& tmp) {
   std::string out;
   const auto model = tmp.path() / "out";
-  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", Q(VarsfmBinary()), Q(set / "images"), Q(model)),
+  // The sparse model is what these tests measure; the dense and textured stages are covered by
+  // the demo test below and tests/texture.
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse", Q(VarsfmBinary()),
+                                   Q(set / "images"), Q(model)),
                        &out),
             0)
       << out;
@@ -73,6 +76,9 @@ TEST(DemoCommand, SyntheticZoomSceneIsAccurateAndRepeatable) {
       << out;
   const nlohmann::json e = ReadJson(tmp.path() / "evaluation.json");
   EXPECT_EQ(e["num_registered"], e["num_gt_images"]);
+  // `run` goes on to the textured model by default.
+  EXPECT_TRUE(std::filesystem::is_regular_file(tmp.path() / "model.glb"));
+  EXPECT_TRUE(std::filesystem::is_regular_file(tmp.path() / "textured" / "model.obj"));
   // Scene units: the cameras orbit at 4 units from the scene.
   EXPECT_LE(e["center_error_m"]["mean"].get<double>(), 0.02);
   EXPECT_LE(e["rotation_error_deg"]["mean"].get<double>(), 0.2);

@@ -9,6 +9,7 @@
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
 
 #include "varsfm/geometry/fundamental.h"
@@ -67,6 +68,37 @@ cv::Vec3f SampleColor(const cv::Mat& color, const Eigen::Vector2f& x) {
   return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
 }
 
+// Linear triangulation of a match in two pinhole views: the inhomogeneous form (X = (X, 1)) of
+// the DLT of Hartley & Zisserman section 12.2, solved by its 3x3 normal equations and solved
+// again with each view's rows divided by the point's projective depth there, so the algebraic
+// residuals become pixel residuals (the iterative linear method of Hartley & Sturm, "Triangu-
+// lation", CVIU 1997, one iteration). It replaces an SVD of the 4x4 homogeneous system, which
+// took a fifth of densify's time for millions of matches. False: at infinity or behind a view.
+bool TriangulateMatch(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vector2d& x1,
+                      const Eigen::Vector2d& x2, Eigen::Vector3d* X) {
+  Eigen::Matrix4d A;
+  A.row(0) = x1.x() * P1.row(2) - P1.row(0);
+  A.row(1) = x1.y() * P1.row(2) - P1.row(1);
+  A.row(2) = x2.x() * P2.row(2) - P2.row(0);
+  A.row(3) = x2.y() * P2.row(2) - P2.row(1);
+  double w1 = 1, w2 = 1;
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    Eigen::Matrix4d B = A;
+    B.topRows<2>() /= w1;
+    B.bottomRows<2>() /= w2;
+    const Eigen::Matrix3d N = B.leftCols<3>().transpose() * B.leftCols<3>();
+    const Eigen::Vector3d rhs = -B.leftCols<3>().transpose() * B.col(3);
+    const Eigen::LLT<Eigen::Matrix3d> llt(N);
+    if (llt.info() != Eigen::Success) return false;
+    *X = llt.solve(rhs);
+    if (!X->allFinite()) return false;
+    w1 = P1.row(2).dot(X->homogeneous());
+    w2 = P2.row(2).dot(X->homogeneous());
+    if (w1 <= 0 || w2 <= 0) return false;
+  }
+  return true;
+}
+
 // Propagation and triangulation of one pair (views a, b), seeded by their shared sparse points.
 std::vector<PairPoint> DensifyPair(const Reconstruction& rec, const DenseView& a,
                                    const DenseView& b, const std::vector<point3D_t>& shared,
@@ -97,7 +129,7 @@ std::vector<PairPoint> DensifyPair(const Reconstruction& rec, const DenseView& a
   for (const QuasiDenseMatch& m : matches) {
     const Eigen::Vector2d x1 = m.x1.cast<double>(), x2 = m.x2.cast<double>();
     Eigen::Vector3d X;
-    if (!TriangulatePoint(a.P, b.P, x1, x2, &X)) continue;
+    if (!TriangulateMatch(a.P, b.P, x1, x2, &X)) continue;
     const Eigen::Vector3d h1 = ProjectH(a.P, X), h2 = ProjectH(b.P, X);
     if (h1.z() <= 0 || h2.z() <= 0) continue;
     if ((h1.hnormalized() - x1).squaredNorm() > max_err2 ||
@@ -287,6 +319,8 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
       progress.Tick();
     });
   }
+  st.seconds_undistort = timer.Seconds();
+  timer.Restart();
 
   const auto shared = SharedPoints(rec);
   std::vector<std::vector<PairPoint>> pair_points(pairs.size());
@@ -312,6 +346,7 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
     adjacent[a].insert({a, b}), adjacent[b].insert({a, b});
   }
   Fusion fusion(views);
+  fusion.observations.reserve(2 * st.num_triangulated);
   for (size_t p = 0; p < pairs.size(); ++p) {
     const uint32_t a = view_index.at(pairs[p].first), b = view_index.at(pairs[p].second);
     std::set<uint32_t> check(adjacent[a]);
@@ -353,15 +388,19 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
     footprints.push_back(ProjectH(v.P, X).z() / v.image.K(0, 0));
   }
   if (cloud.points.empty()) Fail("densify: no dense point survived the filters");
+  st.seconds_fusion = timer.Seconds();
+  timer.Restart();
   std::nth_element(footprints.begin(), footprints.begin() + footprints.size() / 2,
                    footprints.end());
   cloud.normals = EstimateNormals(cloud.points, centers, options.normal_neighbors,
                                   footprints[footprints.size() / 2]);
   st.num_points = cloud.points.size();
-  st.seconds_fusion = timer.Seconds();
-  info("densify: {} pairs, {} matches, {} triangulated, {} fused points ({:.1f} s + {:.1f} s)",
-       st.num_pairs, st.num_matches, st.num_triangulated, st.num_points, st.seconds_propagation,
-       st.seconds_fusion);
+  st.seconds_normals = timer.Seconds();
+  info(
+      "densify: {} pairs, {} matches, {} triangulated, {} fused points (undistort {:.1f} s, "
+      "propagation {:.1f} s, fusion {:.1f} s, normals {:.1f} s)",
+      st.num_pairs, st.num_matches, st.num_triangulated, st.num_points, st.seconds_undistort,
+      st.seconds_propagation, st.seconds_fusion, st.seconds_normals);
   return cloud;
 }
 

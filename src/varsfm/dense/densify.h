@@ -53,11 +53,13 @@ UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, doubl
 
 struct DensifyStats {
   size_t num_pairs = 0;
-  size_t num_matches = 0;       // quasi-dense matches over all pairs
-  size_t num_triangulated = 0;  // after the angle / reprojection filters
-  size_t num_points = 0;        // after fusion
-  double seconds_propagation = 0;
-  double seconds_fusion = 0;
+  size_t num_matches = 0;          // quasi-dense matches over all pairs
+  size_t num_triangulated = 0;     // after the angle / reprojection filters
+  size_t num_points = 0;           // after fusion
+  double seconds_undistort = 0;    // loading and undistorting the images
+  double seconds_propagation = 0;  // propagation and triangulation of all pairs
+  double seconds_fusion = 0;       // fusion and the reprojection check
+  double seconds_normals = 0;
 };
 
 // The image pairs densify would match (image ids, first < second, sorted).

@@ -3,6 +3,10 @@
 // propagation for image-based modeling and rendering", PAMI 2002, section 3): sparse seed
 // matches are grown best-first into their neighbourhoods under ZNCC, uniqueness, a disparity
 // gradient limit, a texture test and, when F is known, the epipolar constraint.
+// Speed (fountain-P11: ~330,000 matches per 1024x683 pair in 1-2 s on one core): ZNCC from
+// per-pixel window sums and exact integer cross sums (dense/zncc.h); the best-first list is a
+// bucket queue (order exact to 5e-5 in ZNCC); a pixel is not re-tried by a second parent with
+// the same disparity (same candidates, already queued).
 //
 // Pixel coordinates follow varsfm's convention: pixel (c, r) covers [c, c+1) x [r, r+1), so a
 // match between pixel centres is reported as (c + 0.5, r + 0.5).

@@ -5,12 +5,11 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstring>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 
+#include "varsfm/io/ply_format.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -25,93 +24,6 @@ void Put(std::ostream& out, T value) {
     std::reverse(bytes, bytes + sizeof(T));
   }
   out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-// A scalar PLY property: its name, its type's size and how to read it as a double.
-struct Property {
-  std::string name;
-  std::string type;
-  size_t size = 0;
-};
-
-size_t TypeSize(const std::string& type) {
-  static const std::map<std::string, size_t> sizes = {
-      {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
-      {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
-      {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
-  const auto it = sizes.find(type);
-  return it == sizes.end() ? 0 : it->second;
-}
-
-double Decode(const char* bytes, const std::string& type) {
-  auto as = [&]<typename T>(T) {
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
-    if constexpr (std::endian::native == std::endian::big) {
-      auto* b = reinterpret_cast<char*>(&value);
-      std::reverse(b, b + sizeof(T));
-    }
-    return static_cast<double>(value);
-  };
-  if (type == "char" || type == "int8") return as(int8_t{});
-  if (type == "uchar" || type == "uint8") return as(uint8_t{});
-  if (type == "short" || type == "int16") return as(int16_t{});
-  if (type == "ushort" || type == "uint16") return as(uint16_t{});
-  if (type == "int" || type == "int32") return as(int32_t{});
-  if (type == "uint" || type == "uint32") return as(uint32_t{});
-  if (type == "float" || type == "float32") return as(float{});
-  return as(double{});
-}
-
-struct Header {
-  bool binary = false;
-  size_t num_vertices = 0;
-  std::vector<Property> vertex_properties;
-};
-
-Header ReadHeader(std::istream& in, const fs::path& file) {
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
-    Fail("{}: not a PLY file", file.string());
-  Header header;
-  bool in_vertex = false, seen_vertex = false;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream s(line);
-    std::string keyword;
-    s >> keyword;
-    if (keyword == "end_header") {
-      if (!seen_vertex) Fail("{}: no vertex element", file.string());
-      return header;
-    }
-    if (keyword == "format") {
-      std::string format;
-      s >> format;
-      if (format == "binary_little_endian")
-        header.binary = true;
-      else if (format != "ascii")
-        Fail("{}: PLY format {} is not supported", file.string(), format);
-    } else if (keyword == "element") {
-      std::string name;
-      size_t count = 0;
-      s >> name >> count;
-      // Elements before the vertices would have to be skipped; writers put vertices first.
-      if (!seen_vertex && name != "vertex")
-        Fail("{}: element {} before the vertices is not supported", file.string(), name);
-      in_vertex = name == "vertex";
-      if (in_vertex) {
-        header.num_vertices = count;
-        seen_vertex = true;
-      }
-    } else if (keyword == "property" && in_vertex) {
-      Property p;
-      s >> p.type >> p.name;
-      p.size = TypeSize(p.type);
-      if (p.size == 0) Fail("{}: vertex property type {} is not supported", file.string(), p.type);
-      header.vertex_properties.push_back(p);
-    }
-  }
-  Fail("{}: PLY header without end_header", file.string());
 }
 
 }  // namespace
@@ -182,10 +94,20 @@ void WritePly(const Reconstruction& reconstruction, const fs::path& file,
 PointCloud ReadPly(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) Fail("{}: cannot open", file.string());
-  const Header header = ReadHeader(in, file);
+  const ply::Header header = ply::ReadHeader(in, file);
+  if (header.elements.empty()) Fail("{}: no vertex element", file.string());
+  // Elements before the vertices would have to be skipped; writers put vertices first.
+  const ply::Element& vertex = header.elements.front();
+  if (vertex.name != "vertex")
+    Fail("{}: element {} before the vertices is not supported", file.string(), vertex.name);
+  ply::RequireKnownTypes(vertex, file);
   std::map<std::string, size_t> index;  // property name -> position in a vertex record
-  for (size_t i = 0; i < header.vertex_properties.size(); ++i)
-    index[header.vertex_properties[i].name] = i;
+  for (size_t i = 0; i < vertex.properties.size(); ++i) {
+    // A point cloud has only scalar vertex properties; a list is taken for a malformed file.
+    if (vertex.properties[i].IsList())
+      Fail("{}: vertex property type list is not supported", file.string());
+    index[vertex.properties[i].name] = i;
+  }
   auto has = [&](std::initializer_list<const char*> names) {
     return std::all_of(names.begin(), names.end(), [&](const char* n) { return index.count(n); });
   };
@@ -193,20 +115,13 @@ PointCloud ReadPly(const fs::path& file) {
   const bool normals = has({"nx", "ny", "nz"}), colors = has({"red", "green", "blue"});
 
   PointCloud cloud;
-  std::vector<double> values(header.vertex_properties.size());
-  std::string record;
-  for (size_t v = 0; v < header.num_vertices; ++v) {
-    if (header.binary) {
-      for (size_t i = 0; i < values.size(); ++i) {
-        const Property& p = header.vertex_properties[i];
-        record.resize(p.size);
-        if (!in.read(record.data(), static_cast<std::streamsize>(p.size)))
-          Fail("{}: truncated at vertex {}", file.string(), v);
-        values[i] = Decode(record.data(), p.type);
-      }
-    } else {
-      for (double& value : values)
-        if (!(in >> value)) Fail("{}: bad or truncated ascii vertex {}", file.string(), v);
+  ply::ValueReader reader(in, header.binary);
+  std::vector<double> values;
+  std::vector<std::vector<double>> lists;  // unused: vertex lists are rejected above
+  for (size_t v = 0; v < vertex.count; ++v) {
+    if (!ply::ReadRecord(reader, vertex, &values, &lists)) {
+      if (header.binary) Fail("{}: truncated at vertex {}", file.string(), v);
+      Fail("{}: bad or truncated ascii vertex {}", file.string(), v);
     }
     auto vec = [&](const char* a, const char* b, const char* c) {
       return Eigen::Vector3d(values[index[a]], values[index[b]], values[index[c]]);

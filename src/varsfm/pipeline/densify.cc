@@ -1,5 +1,8 @@
 #include "varsfm/pipeline/densify.h"
 
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "varsfm/io/colmap_model.h"
@@ -9,6 +12,36 @@
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
+namespace {
+
+void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult& r,
+                  double seconds_check) {
+  const DensifyStats& st = r.stats;
+  const nlohmann::json summary = {
+      {"points", r.num_points},
+      {"pairs", st.num_pairs},
+      {"matches", st.num_matches},
+      {"triangulated", st.num_triangulated},
+      {"seconds",
+       {{"undistort", st.seconds_undistort},
+        {"propagation", st.seconds_propagation},
+        {"fusion", st.seconds_fusion},
+        {"normals", st.seconds_normals},
+        {"check", seconds_check},
+        {"total", r.seconds}}},
+      // Distances in units of the median camera-to-point depth of the sparse model.
+      {"sparse_check",
+       {{"checked_points", r.quality.num_checked},
+        {"scene_depth", r.quality.scene_depth},
+        {"median_distance_to_nearest_sparse_point", r.quality.median_nearest},
+        {"median_distance_to_local_sparse_plane", r.quality.median_plane},
+        {"fraction_within_1_percent_of_depth", r.quality.fraction_within_1pc}}}};
+  std::ofstream out(file);
+  out << summary.dump(2) << "\n";
+  if (!out) Fail("cannot write {}", file.string());
+}
+
+}  // namespace
 
 DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
   Timer timer;
@@ -39,7 +72,16 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
   std::filesystem::create_directories(options.output);
   WritePly(options.output / "dense.ply", cloud);
   result.num_points = cloud.points.size();
+  Timer check_timer;
+  result.quality = MeasureAgainstSparse(cloud.points, rec);
+  const double seconds_check = check_timer.Seconds();
   result.seconds = timer.Seconds();
+  info(
+      "densify: median distance to the nearest sparse point {:.4f}, to the local sparse plane "
+      "{:.4f} (x median scene depth {:.3g}; {:.1f} % within 1 %)",
+      result.quality.median_nearest, result.quality.median_plane, result.quality.scene_depth,
+      100 * result.quality.fraction_within_1pc);
+  WriteSummary(options.output / "dense_summary.json", result, seconds_check);
   info("densify: wrote {} points to {} in {:.1f} s", result.num_points,
        (options.output / "dense.ply").string(), result.seconds);
   return result;

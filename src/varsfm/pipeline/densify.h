@@ -1,9 +1,11 @@
 #pragma once
 // Stage 4 of the pipeline: a sparse model and its photos in, a dense coloured point cloud with
-// normals out (OUT/dense.ply), by match propagation (dense/densify.h).
+// normals out (OUT/dense.ply), by match propagation (dense/densify.h), and OUT/dense_summary.json
+// (counts, seconds per phase, and how close the dense points lie to the sparse model).
 #include <filesystem>
 
 #include "varsfm/dense/densify.h"
+#include "varsfm/dense/sparse_distance.h"
 
 namespace varsfm {
 
@@ -19,6 +21,7 @@ struct DensifyCommandOptions {
 
 struct DensifyCommandResult {
   DensifyStats stats;
+  SparseDistanceStats quality;  // the dense points against the sparse model
   size_t num_points = 0;
   double seconds = 0;
 };

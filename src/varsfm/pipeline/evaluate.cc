@@ -6,10 +6,28 @@
 
 #include "varsfm/eval/ground_truth.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/pipeline/render.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
 namespace varsfm {
+
+namespace {
+
+void WriteJson(const std::filesystem::path& path, const nlohmann::json& json) {
+  const auto tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << json.dump(2) << '\n';
+    if (!out) Fail("{}: cannot write", path.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) Fail("{}: cannot write: {}", path.string(), ec.message());
+  info("wrote {}", path.string());
+}
+
+}  // namespace
 
 EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
   // Check both folders before reading either, so the message names the one that is wrong.
@@ -34,6 +52,40 @@ EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
     info("wrote {}", options.json_path.string());
   }
   return report;
+}
+
+std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
+  if (options.gt_dir.empty() && !options.render)
+    Fail("evaluate: give --gt (ground-truth cameras), --render (textured model), or both");
+  std::string text;
+  nlohmann::json json;
+  if (!options.gt_dir.empty()) {
+    EvaluateCommandOptions gt = options;
+    gt.json_path.clear();
+    const EvaluationReport report = RunEvaluation(gt);
+    text += FormatReport(report);
+    json = ToJson(report);
+  }
+  if (options.render) {
+    if (options.image_dir.empty()) Fail("evaluate --render: --images (the photos) is required");
+    RenderEvaluationOptions render;
+    render.sparse = options.model_dir;
+    render.textured = options.textured.empty()
+                          ? std::filesystem::absolute(options.model_dir).lexically_normal() /
+                                ".." / "textured"
+                          : options.textured;
+    render.image_dir = options.image_dir;
+    render.render_dir = options.render_dir;
+    const RenderEvaluationReport report = EvaluateRenders(render);
+    text += FormatRenderReport(report);
+    if (options.gt_dir.empty()) {
+      json = ToJson(report);
+    } else {
+      json["render"] = ToJson(report);
+    }
+  }
+  if (!options.json_path.empty()) WriteJson(options.json_path, json);
+  return text;
 }
 
 }  // namespace varsfm

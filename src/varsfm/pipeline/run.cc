@@ -1,6 +1,8 @@
 #include "varsfm/pipeline/run.h"
 
+#include <algorithm>
 #include <fstream>
+#include <vector>
 
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -13,6 +15,13 @@ RunResult RunAll(const RunOptions& options) {
   if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
   const bool video = fs::is_regular_file(options.input);
   if (options.output.empty()) Fail("no output folder given");
+  static const std::vector<std::string> kStages = {"sparse", "dense", "mesh", "texture"};
+  const auto last = std::find(kStages.begin(), kStages.end(), options.until);
+  if (last == kStages.end())
+    Fail("--until {}: expected sparse, dense, mesh or texture", options.until);
+  const auto runs = [&](const char* stage) {
+    return std::find(kStages.begin(), kStages.end(), stage) <= last;
+  };
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   fs::create_directories(options.output);
@@ -58,6 +67,39 @@ RunResult RunAll(const RunOptions& options) {
 
   info("run: wrote {}/sparse (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
        options.output.string());
+
+  // Dense cloud, surface and texture, each stage's time added to the summary as it ends.
+  const auto add_seconds = [&](const char* stage, double seconds) {
+    summary["seconds"][stage] = seconds;
+    std::ofstream(summary_path) << summary.dump(2) << "\n";
+  };
+  if (runs("dense")) {
+    DensifyCommandOptions densify;
+    densify.sparse = options.output / "sparse";
+    densify.image_dir = extracted.image_dir;
+    densify.output = options.output;
+    densify.dense = options.dense;
+    result.seconds_densify = RunDensify(densify).seconds;
+    add_seconds("densify", result.seconds_densify);
+  }
+  if (runs("mesh")) {
+    MeshCommandOptions mesh;
+    mesh.input = options.output / "dense.ply";
+    mesh.output = options.output;
+    mesh.surface = options.surface;
+    result.seconds_mesh = RunMesh(mesh).seconds;
+    add_seconds("mesh", result.seconds_mesh);
+  }
+  if (runs("texture")) {
+    TextureCommandOptions texture;
+    texture.mesh = options.output / "mesh.ply";
+    texture.sparse = options.output / "sparse";
+    texture.image_dir = extracted.image_dir;
+    texture.output = options.output;
+    texture.texture = options.texture;
+    result.seconds_texture = RunTexture(texture).seconds;
+    add_seconds("texture", result.seconds_texture);
+  }
   return result;
 }
 

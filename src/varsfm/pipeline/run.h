@@ -1,12 +1,16 @@
 #pragma once
-// `varsfm run INPUT OUT`: the whole chain with default options, photos or a video in, a sparse
-// model out: extract -> match -> map. OUT/workspace.db is the workspace (re-running resumes).
+// `varsfm run INPUT OUT`: the whole chain with default options, photos or a video in, a
+// textured model out: extract -> match -> map (sparse) -> densify (dense) -> mesh -> texture,
+// stopping after the stage `until` names. OUT/workspace.db is the workspace (re-running resumes).
 #include <filesystem>
 #include <string>
 
+#include "varsfm/pipeline/densify.h"
 #include "varsfm/pipeline/extract.h"
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
+#include "varsfm/pipeline/mesh.h"
+#include "varsfm/pipeline/texture.h"
 
 namespace varsfm {
 
@@ -18,6 +22,11 @@ struct RunOptions {
   ExtractOptions extract;  // workspace / image_dir / video are filled in by RunAll
   MatchOptions match;      // workspace / strategy filled in
   MapOptions map;          // workspace / output / image_dir filled in
+  // The last stage run: "sparse" (map), "dense" (densify), "mesh" or "texture" (everything).
+  std::string until = "texture";
+  DensifyOptions dense;
+  SurfaceOptions surface;
+  TextureOptions texture;
 };
 
 struct RunResult {
@@ -25,10 +34,14 @@ struct RunResult {
   double seconds_extract = 0;
   double seconds_match = 0;
   double seconds_map = 0;
+  double seconds_densify = 0;  // 0 for stages not run
+  double seconds_mesh = 0;
+  double seconds_texture = 0;
 };
 
 // Throws varsfm::Error (one line) for a missing input, a video that cannot be decoded, too few
-// images, or a scene that cannot be initialised.
+// images, a scene that cannot be initialised, or an unknown `until`; later stages throw as their
+// commands do (the outputs of the stages before stay in OUT).
 RunResult RunAll(const RunOptions& options);
 
 }  // namespace varsfm

@@ -1,0 +1,125 @@
+#include "varsfm/io/ply_format.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <sstream>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm::ply {
+namespace {
+
+// `bytes` (little-endian, as PLY's binary format stores them) as a double.
+double Decode(const char* bytes, const std::string& type) {
+  auto as = [&]<typename T>(T) {
+    T value;
+    std::memcpy(&value, bytes, sizeof(T));
+    if constexpr (std::endian::native == std::endian::big) {
+      auto* b = reinterpret_cast<char*>(&value);
+      std::reverse(b, b + sizeof(T));
+    }
+    return static_cast<double>(value);
+  };
+  if (type == "char" || type == "int8") return as(int8_t{});
+  if (type == "uchar" || type == "uint8") return as(uint8_t{});
+  if (type == "short" || type == "int16") return as(int16_t{});
+  if (type == "ushort" || type == "uint16") return as(uint16_t{});
+  if (type == "int" || type == "int32") return as(int32_t{});
+  if (type == "uint" || type == "uint32") return as(uint32_t{});
+  if (type == "float" || type == "float32") return as(float{});
+  return as(double{});
+}
+
+}  // namespace
+
+size_t TypeSize(const std::string& type) {
+  static const std::map<std::string, size_t> sizes = {
+      {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
+      {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
+      {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
+  const auto it = sizes.find(type);
+  return it == sizes.end() ? 0 : it->second;
+}
+
+Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
+    Fail("{}: not a PLY file", file.string());
+  Header header;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream s(line);
+    std::string keyword;
+    s >> keyword;
+    if (keyword == "end_header") return header;
+    if (keyword == "format") {
+      std::string format;
+      s >> format;
+      if (format == "binary_little_endian")
+        header.binary = true;
+      else if (format != "ascii")
+        Fail("{}: PLY format {} is not supported", file.string(), format);
+    } else if (keyword == "element") {
+      Element e;
+      s >> e.name >> e.count;
+      header.elements.push_back(e);
+    } else if (keyword == "property") {
+      if (header.elements.empty()) Fail("{}: PLY property before any element", file.string());
+      Property p;
+      s >> p.type;
+      if (p.type == "list") s >> p.count_type >> p.type;
+      s >> p.name;
+      p.size = TypeSize(p.type);
+      header.elements.back().properties.push_back(p);
+    }
+  }
+  Fail("{}: PLY header without end_header", file.string());
+}
+
+void RequireKnownTypes(const Element& element, const std::filesystem::path& file) {
+  for (const Property& p : element.properties) {
+    if (p.IsList() && TypeSize(p.count_type) == 0)
+      Fail("{}: {} list count type {} is not supported", file.string(), element.name, p.count_type);
+    if (p.size == 0)
+      Fail("{}: {} property type {} is not supported", file.string(), element.name, p.type);
+  }
+}
+
+bool ValueReader::Read(const std::string& type, double* value) {
+  if (!binary_) return static_cast<bool>(in_ >> *value);
+  char bytes[8];
+  if (!in_.read(bytes, static_cast<std::streamsize>(TypeSize(type)))) return false;
+  *value = Decode(bytes, type);
+  return true;
+}
+
+bool ReadRecord(ValueReader& reader, const Element& element, std::vector<double>* scalars,
+                std::vector<std::vector<double>>* lists) {
+  const size_t n = element.properties.size();
+  scalars->resize(n);
+  lists->resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const Property& p = element.properties[k];
+    if (!p.IsList()) {
+      if (!reader.Read(p.type, &(*scalars)[k])) return false;
+      continue;
+    }
+    double count;
+    if (!reader.Read(p.count_type, &count) || count < 0) return false;
+    // Grown item by item rather than sized from `count`, so a corrupt count ends as truncated
+    // data instead of a huge allocation.
+    std::vector<double>& list = (*lists)[k];
+    list.clear();
+    for (size_t j = 0; j < static_cast<size_t>(count); ++j) {
+      double item;
+      if (!reader.Read(p.type, &item)) return false;
+      list.push_back(item);
+    }
+  }
+  return true;
+}
+
+}  // namespace varsfm::ply

@@ -1,0 +1,63 @@
+#pragma once
+// The PLY format itself, shared by every PLY reader in varsfm (point clouds in io/ply.cc, triangle
+// meshes in texture/mesh_reader.cc) so the header grammar and the scalar types are parsed in one
+// place. Supports ascii and binary_little_endian (byte-swapped on a big-endian host).
+#include <cstddef>
+#include <filesystem>
+#include <istream>
+#include <string>
+#include <vector>
+
+namespace varsfm::ply {
+
+// One property line: `property <type> <name>` or `property list <count_type> <type> <name>`.
+struct Property {
+  std::string name;
+  std::string type;        // scalar type, or the list's item type
+  std::string count_type;  // non-empty for a list
+  size_t size = 0;         // bytes of `type`; 0 for a type PLY does not define
+
+  bool IsList() const { return !count_type.empty(); }
+};
+
+struct Element {
+  std::string name;
+  size_t count = 0;
+  std::vector<Property> properties;
+};
+
+struct Header {
+  bool binary = false;  // binary_little_endian; false for ascii
+  std::vector<Element> elements;
+};
+
+// Bytes of a PLY scalar type, 0 for an unknown one.
+size_t TypeSize(const std::string& type);
+
+// Reads up to and including end_header. Throws varsfm::Error naming `file` for a file that is not
+// PLY, an unsupported format or a missing end_header. Property types are not checked here: a
+// reader checks those of the elements it uses (RequireKnownTypes), so it can skip the rest.
+Header ReadHeader(std::istream& in, const std::filesystem::path& file);
+
+// Throws varsfm::Error naming `file` when a property of `element` has an unknown type.
+void RequireKnownTypes(const Element& element, const std::filesystem::path& file);
+
+// Reads scalar values from the data after the header, ascii or binary.
+class ValueReader {
+ public:
+  ValueReader(std::istream& in, bool binary) : in_(in), binary_(binary) {}
+  // False when the data ends early or an ascii number is malformed; the caller names the place.
+  bool Read(const std::string& type, double* value);
+
+ private:
+  std::istream& in_;
+  bool binary_;
+};
+
+// Reads one record of `element`: scalar k into (*scalars)[k], list k into (*lists)[k] (both
+// resized to the property count; the entry of the other kind is left as it was). False when the
+// data ends early or is malformed.
+bool ReadRecord(ValueReader& reader, const Element& element, std::vector<double>* scalars,
+                std::vector<std::vector<double>>* lists);
+
+}  // namespace varsfm::ply

@@ -1,0 +1,121 @@
+#include "varsfm/pipeline/render.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/texture/model_texture.h"
+#include "varsfm/texture/obj_io.h"
+#include "varsfm/texture/render.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+
+namespace fs = std::filesystem;
+
+fs::path TexturedObjPath(const fs::path& file_or_dir) {
+  const fs::path obj = fs::is_directory(file_or_dir) ? file_or_dir / "model.obj" : file_or_dir;
+  if (!fs::is_regular_file(obj)) Fail("{}: textured model does not exist", obj.string());
+  return obj;
+}
+
+namespace {
+
+void WriteImage(const fs::path& file, const cv::Mat& image) {
+  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  bool ok = false;
+  try {
+    ok = cv::imwrite(file.string(), image);
+  } catch (const cv::Exception&) {  // e.g. an extension OpenCV has no encoder for
+  }
+  if (!ok) Fail("{}: cannot write image", file.string());
+}
+
+}  // namespace
+
+void RunRender(const RenderCommandOptions& options) {
+  const fs::path sparse = options.sparse.empty() ? options.model / "sparse" : options.sparse;
+  const fs::path textured =
+      options.textured.empty() ? options.model / "textured" : options.textured;
+  if (!fs::is_directory(sparse)) Fail("{}: sparse model folder does not exist", sparse.string());
+  const TexturedMesh mesh = ReadTexturedObj(TexturedObjPath(textured));
+  const Reconstruction rec = ReadColmapModel(sparse);
+  for (const image_t id : rec.RegisteredImageIds()) {
+    if (rec.image(id).name != options.camera) continue;
+    const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), rec.image(id).cam_from_world);
+    WriteImage(options.output, r.image);
+    if (options.write_mask) {
+      fs::path mask = options.output;
+      mask.replace_filename(options.output.stem().string() + "_mask.png");
+      WriteImage(mask, r.mask);
+    }
+    info("render: {} ({:.0f} % covered) -> {}", options.camera,
+         100.0 * cv::countNonZero(r.mask) / r.mask.total(), options.output.string());
+    return;
+  }
+  Fail("{}: no registered image named {}", sparse.string(), options.camera);
+}
+
+RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
+  Timer timer;
+  if (!fs::is_directory(options.sparse))
+    Fail("{}: model folder does not exist", options.sparse.string());
+  if (!fs::is_directory(options.image_dir))
+    Fail("{}: image folder does not exist", options.image_dir.string());
+  const TexturedMesh mesh = ReadTexturedObj(TexturedObjPath(options.textured));
+  const Reconstruction rec = ReadColmapModel(options.sparse);
+  if (rec.NumRegisteredImages() == 0)
+    Fail("{}: model has no registered images", options.sparse.string());
+  RenderEvaluationReport report;
+  size_t scored = 0;
+  for (const image_t id : rec.RegisteredImageIds()) {
+    const Image& image = rec.image(id);
+    const cv::Mat photo = ReadModelPhoto(rec, id, options.image_dir);
+    const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), image.cam_from_world);
+    const PhotometricScore s = ComparePhotometric(r, photo);
+    report.images.push_back({image.name, s.psnr_db, s.coverage});
+    if (!options.render_dir.empty())
+      WriteImage(options.render_dir / (fs::path(image.name).stem().string() + ".png"), r.image);
+    report.mean_coverage += s.coverage;
+    if (s.covered_pixels > 0 && std::isfinite(s.psnr_db)) {
+      report.mean_psnr_db += s.psnr_db;
+      ++scored;
+    }
+  }
+  report.mean_coverage /= report.images.size();
+  if (scored) report.mean_psnr_db /= scored;
+  report.seconds = timer.Seconds();
+  return report;
+}
+
+std::string FormatRenderReport(const RenderEvaluationReport& report) {
+  std::string out = "Rendering of the textured model vs. photo (pixels the mesh covers)\n";
+  out += fmt::format("  {:<32} {:>9} {:>9}\n", "image", "PSNR dB", "covered");
+  for (const RenderEvaluationRow& row : report.images)
+    out += fmt::format("  {:<32} {:>9.2f} {:>8.1f}%\n", row.name, row.psnr_db, 100 * row.coverage);
+  out += fmt::format("  {:<32} {:>9.2f} {:>8.1f}%\n", "mean", report.mean_psnr_db,
+                     100 * report.mean_coverage);
+  return out;
+}
+
+nlohmann::json ToJson(const RenderEvaluationReport& report) {
+  nlohmann::json j;
+  j["mean_psnr_db"] = report.mean_psnr_db;
+  j["mean_coverage"] = report.mean_coverage;
+  j["seconds"] = report.seconds;
+  j["images"] = nlohmann::json::array();
+  for (const RenderEvaluationRow& row : report.images) {
+    // JSON has no infinity: an exact match is reported as null.
+    j["images"].push_back(
+        {{"name", row.name},
+         {"psnr_db", std::isfinite(row.psnr_db) ? nlohmann::json(row.psnr_db) : nlohmann::json()},
+         {"coverage", row.coverage}});
+  }
+  return j;
+}
+
+}  // namespace varsfm

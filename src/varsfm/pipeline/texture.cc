@@ -1,0 +1,39 @@
+#include "varsfm/pipeline/texture.h"
+
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/texture/gltf_writer.h"
+#include "varsfm/texture/mesh_reader.h"
+#include "varsfm/texture/obj_io.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+
+TextureCommandResult RunTexture(const TextureCommandOptions& options) {
+  Timer timer;
+  if (!std::filesystem::is_directory(options.sparse))
+    Fail("sparse model folder {} does not exist", options.sparse.string());
+  if (!std::filesystem::is_directory(options.image_dir))
+    Fail("image folder {} does not exist", options.image_dir.string());
+  const TriangleMesh mesh = ReadMeshPly(options.mesh);
+  const Reconstruction rec = ReadColmapModel(options.sparse);
+  if (rec.NumRegisteredImages() == 0)
+    Fail("sparse model {} has no registered images to texture from", options.sparse.string());
+
+  TextureCommandResult result;
+  const TexturedMesh textured =
+      TextureFromModel(mesh, rec, options.image_dir, options.texture, &result.stats);
+  WriteTexturedObj(options.output / "textured", textured, "model");
+  WriteGlb(options.output / "model.glb", textured);
+  result.seconds = timer.Seconds();
+  const TextureStats& s = result.stats;
+  info(
+      "texture: {} of {} faces textured, {} charts, {} atlas page(s) ({:.1f} Mpx) in {:.1f} s "
+      "-> {}/textured/model.obj, model.glb",
+      s.num_textured_faces, s.num_faces, s.num_charts, s.num_pages, s.atlas_pixels / 1e6,
+      result.seconds, options.output.string());
+  return result;
+}
+
+}  // namespace varsfm

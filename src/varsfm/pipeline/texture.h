@@ -1,0 +1,28 @@
+#pragma once
+// Stage 6 of the pipeline: a mesh (OUT/mesh.ply of `mesh`), the sparse model and its photos in;
+// a textured model out: OUT/textured/model.obj + model.mtl + model_N.png and OUT/model.glb
+// (texture/texture_mapping.h).
+#include <filesystem>
+
+#include "varsfm/texture/model_texture.h"
+
+namespace varsfm {
+
+struct TextureCommandOptions {
+  std::filesystem::path mesh;       // PLY triangle mesh
+  std::filesystem::path sparse;     // COLMAP model folder (text or binary)
+  std::filesystem::path image_dir;  // the photos, by the model's image names
+  std::filesystem::path output;     // OUT: OUT/textured/ and OUT/model.glb are written
+  TextureOptions texture;
+};
+
+struct TextureCommandResult {
+  TextureStats stats;
+  double seconds = 0;
+};
+
+// Throws varsfm::Error (one line) for a missing/empty mesh, a missing model or one without
+// registered images, or a missing photo / one whose size differs from its camera.
+TextureCommandResult RunTexture(const TextureCommandOptions& options);
+
+}  // namespace varsfm

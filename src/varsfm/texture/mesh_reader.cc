@@ -1,0 +1,79 @@
+#include "varsfm/texture/mesh_reader.h"
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "varsfm/io/ply_format.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Position of the property called `name` in `element`, -1 when it has none.
+int PropertyIndex(const ply::Element& element, const std::string& name) {
+  for (size_t k = 0; k < element.properties.size(); ++k)
+    if (element.properties[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
+}  // namespace
+
+// The PLY grammar (header, types, ascii/binary records) is io/ply_format's; this only maps the
+// vertex and face elements onto a TriangleMesh. It lives in texture, not io, because io sits above
+// mesh (DEVELOPERS.md) and so cannot know TriangleMesh.
+TriangleMesh ReadMeshPly(const fs::path& file) {
+  if (!fs::is_regular_file(file)) Fail("{}: mesh file does not exist", file.string());
+  std::ifstream in(file, std::ios::binary);
+  if (!in) Fail("{}: cannot open", file.string());
+  const ply::Header header = ply::ReadHeader(in, file);
+  // Every element is read (the data is one stream), so every type must be known.
+  for (const ply::Element& e : header.elements) ply::RequireKnownTypes(e, file);
+
+  TriangleMesh mesh;
+  ply::ValueReader reader(in, header.binary);
+  std::vector<double> values;
+  std::vector<std::vector<double>> lists;
+  for (const ply::Element& e : header.elements) {
+    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    const int ix = PropertyIndex(e, "x"), iy = PropertyIndex(e, "y"), iz = PropertyIndex(e, "z");
+    const int ir = PropertyIndex(e, "red"), ig = PropertyIndex(e, "green"),
+              ib = PropertyIndex(e, "blue");
+    if (is_vertex && (ix < 0 || iy < 0 || iz < 0))
+      Fail("{}: PLY vertices lack x y z", file.string());
+    const bool has_colors = ir >= 0 && ig >= 0 && ib >= 0;
+    for (size_t r = 0; r < e.count; ++r) {
+      if (!ply::ReadRecord(reader, e, &values, &lists))
+        Fail("{}: truncated or malformed PLY data", file.string());
+      if (is_vertex) {
+        mesh.vertices.emplace_back(values[ix], values[iy], values[iz]);
+        if (has_colors)
+          mesh.colors.emplace_back(static_cast<uint8_t>(values[ir]),
+                                   static_cast<uint8_t>(values[ig]),
+                                   static_cast<uint8_t>(values[ib]));
+        continue;
+      }
+      if (!is_face) continue;
+      for (size_t k = 0; k < e.properties.size(); ++k) {
+        const std::string& name = e.properties[k].name;
+        if (!e.properties[k].IsList() || (name != "vertex_indices" && name != "vertex_index"))
+          continue;
+        // Fan polygons into triangles (convex faces, as PLY writers produce).
+        const std::vector<double>& ids = lists[k];
+        for (size_t j = 2; j < ids.size(); ++j)
+          mesh.faces.emplace_back(static_cast<int>(ids[0]), static_cast<int>(ids[j - 1]),
+                                  static_cast<int>(ids[j]));
+      }
+    }
+  }
+  const int num_vertices = static_cast<int>(mesh.vertices.size());
+  for (const Eigen::Vector3i& f : mesh.faces)
+    if (f.minCoeff() < 0 || f.maxCoeff() >= num_vertices)
+      Fail("{}: face index out of range", file.string());
+  if (mesh.faces.empty()) Fail("{}: mesh has no faces", file.string());
+  return mesh;
+}
+
+}  // namespace varsfm

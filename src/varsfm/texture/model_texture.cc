@@ -1,0 +1,43 @@
+#include "varsfm/texture/model_texture.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+
+std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
+                                         std::vector<image_t>* image_ids) {
+  std::vector<TextureView> views;
+  image_ids->clear();
+  for (const image_t id : reconstruction.RegisteredImageIds()) {
+    views.push_back({reconstruction.CameraOf(id), reconstruction.image(id).cam_from_world});
+    image_ids->push_back(id);
+  }
+  return views;
+}
+
+cv::Mat ReadModelPhoto(const Reconstruction& reconstruction, image_t image_id,
+                       const std::filesystem::path& image_dir) {
+  const std::filesystem::path file = image_dir / reconstruction.image(image_id).name;
+  cv::Mat pixels = cv::imread(file.string(), cv::IMREAD_COLOR);  // EXIF orientation applied
+  if (pixels.empty()) Fail("cannot read image {}", file.string());
+  const Camera& camera = reconstruction.CameraOf(image_id);
+  if (pixels.cols != camera.width || pixels.rows != camera.height)
+    Fail("image {} is {}x{} but its camera is {}x{}", file.string(), pixels.cols, pixels.rows,
+         camera.width, camera.height);
+  return pixels;
+}
+
+TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,
+                              const std::filesystem::path& image_dir, const TextureOptions& options,
+                              TextureStats* stats) {
+  std::vector<image_t> ids;
+  const std::vector<TextureView> views = RegisteredViews(reconstruction, &ids);
+  if (views.empty()) Fail("texture: the sparse model has no registered images to texture from");
+  return TextureMesh(
+      mesh, views, [&](size_t v) { return ReadModelPhoto(reconstruction, ids[v], image_dir); },
+      options, stats);
+}
+
+}  // namespace varsfm

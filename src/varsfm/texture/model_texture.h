@@ -1,0 +1,31 @@
+#pragma once
+// Texturing a mesh from a sparse model's registered images and their photos on disk: the glue
+// between a Reconstruction and texture_mapping.h, shared by `varsfm texture` and the renderer's
+// evaluation.
+#include <filesystem>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/texture/texture_mapping.h"
+
+namespace varsfm {
+
+// The registered images of a model as texture views, in image-id order (ids in `image_ids`).
+std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
+                                         std::vector<image_t>* image_ids);
+
+// Reads a model's photo (BGR), checking that it exists and has its camera's size. Throws
+// varsfm::Error naming the file.
+cv::Mat ReadModelPhoto(const Reconstruction& reconstruction, image_t image_id,
+                       const std::filesystem::path& image_dir);
+
+// Throws varsfm::Error (one line) for a model without registered images, an empty mesh, or a
+// missing / wrongly sized photo.
+TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,
+                              const std::filesystem::path& image_dir,
+                              const TextureOptions& options = {}, TextureStats* stats = nullptr);
+
+}  // namespace varsfm

@@ -1,0 +1,101 @@
+#include "varsfm/texture/render.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+
+#include "varsfm/texture/rasterizer.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// Bilinear lookup at atlas position (x, y) in pixels, texel centres at i + 0.5 (the pixel
+// convention of the photos the atlas was cut from), clamped at the page border.
+cv::Vec3f SampleBilinear(const cv::Mat& page, double x, double y) {
+  x -= 0.5;
+  y -= 0.5;
+  const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, page.cols - 1);
+  const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, page.rows - 1);
+  const int x1 = std::min(x0 + 1, page.cols - 1), y1 = std::min(y0 + 1, page.rows - 1);
+  const float ax = static_cast<float>(std::clamp(x - x0, 0.0, 1.0));
+  const float ay = static_cast<float>(std::clamp(y - y0, 0.0, 1.0));
+  const cv::Vec3b* r0 = page.ptr<cv::Vec3b>(y0);
+  const cv::Vec3b* r1 = page.ptr<cv::Vec3b>(y1);
+  const cv::Vec3f top = (1 - ax) * cv::Vec3f(r0[x0]) + ax * cv::Vec3f(r0[x1]);
+  const cv::Vec3f bottom = (1 - ax) * cv::Vec3f(r1[x0]) + ax * cv::Vec3f(r1[x1]);
+  return (1 - ay) * top + ay * bottom;
+}
+
+}  // namespace
+
+Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
+                             const Rigid3d& cam_from_world) {
+  const std::vector<ProjectedVertex> projected =
+      ProjectVertices(mesh.vertices, camera, cam_from_world);
+  const FaceRaster raster = RasterizeFaces(projected, mesh.faces, camera.width, camera.height);
+  std::vector<Eigen::Vector3d> in_camera(mesh.vertices.size());
+  for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    in_camera[i] = cam_from_world * mesh.vertices[i];
+
+  Rendering out;
+  out.image = cv::Mat(camera.height, camera.width, CV_8UC3, cv::Scalar::all(0));
+  out.mask = cv::Mat(camera.height, camera.width, CV_8UC1, cv::Scalar::all(0));
+  tbb::parallel_for(0, camera.height, [&](int y) {
+    cv::Vec3b* row = out.image.ptr<cv::Vec3b>(y);
+    uchar* mask_row = out.mask.ptr<uchar>(y);
+    for (int x = 0; x < camera.width; ++x) {
+      const int32_t f = raster.FaceAt(x, y);
+      if (f < 0) continue;
+      const Eigen::Vector3i& face = mesh.faces[f];
+      const Eigen::Vector2d ray = camera.ImageToNormalized(Eigen::Vector2d(x + 0.5, y + 0.5));
+      Eigen::Vector3d l;
+      if (!FaceBarycentrics(in_camera[face[0]], in_camera[face[1]], in_camera[face[2]], ray, &l))
+        continue;
+      // Pixels sampled at a face's edge can fall just outside it: stay within the face's chart.
+      l = l.cwiseMax(0.0);
+      l /= std::max(l.sum(), 1e-12);
+      const Eigen::Vector3i& tc = mesh.face_texcoords[f];
+      const Eigen::Vector2d uv = l[0] * mesh.texcoords[tc[0]].cast<double>() +
+                                 l[1] * mesh.texcoords[tc[1]].cast<double>() +
+                                 l[2] * mesh.texcoords[tc[2]].cast<double>();
+      const cv::Mat& page = mesh.pages[mesh.face_page[f]];
+      const cv::Vec3f c = SampleBilinear(page, uv.x() * page.cols, uv.y() * page.rows);
+      row[x] = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                         cv::saturate_cast<uchar>(c[2]));
+      mask_row[x] = 255;
+    }
+  });
+  return out;
+}
+
+PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& photo) {
+  if (photo.size() != rendering.image.size() || photo.type() != CV_8UC3)
+    Fail("photometric comparison: photo is {}x{} but the rendering {}x{}", photo.cols, photo.rows,
+         rendering.image.cols, rendering.image.rows);
+  PhotometricScore score;
+  double sum_sq = 0;
+  for (int y = 0; y < photo.rows; ++y) {
+    const cv::Vec3b* a = rendering.image.ptr<cv::Vec3b>(y);
+    const cv::Vec3b* b = photo.ptr<cv::Vec3b>(y);
+    const uchar* m = rendering.mask.ptr<uchar>(y);
+    for (int x = 0; x < photo.cols; ++x) {
+      if (!m[x]) continue;
+      ++score.covered_pixels;
+      for (int c = 0; c < 3; ++c) {
+        const double d = static_cast<double>(a[x][c]) - b[x][c];
+        sum_sq += d * d;
+      }
+    }
+  }
+  score.coverage = static_cast<double>(score.covered_pixels) / (photo.rows * photo.cols);
+  if (score.covered_pixels == 0) return score;
+  const double mse = sum_sq / (3.0 * score.covered_pixels);
+  score.psnr_db =
+      mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+  return score;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,49 @@
+#pragma once
+// Texturing a mesh from the registered photos: per-face image choice (view_selection.h), charts
+// of connected faces with the same image, each chart's bounding box in its photo (plus padding)
+// copied into an atlas (atlas.h), texture coordinates from projecting the vertices through the
+// full camera model (distortion included), so colours come straight from the photo's pixels
+// with no resampling. Inside a face the photo is mapped affinely between its corners' distorted
+// positions: exact at the corners, and off by (distortion curvature x face size^2), a small
+// fraction of a pixel for the faces of a reconstructed mesh. Faces no photo sees take their
+// vertex colour (or grey) from a palette block of the atlas.
+#include <functional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/texture/textured_mesh.h"
+#include "varsfm/texture/view_selection.h"
+
+namespace varsfm {
+
+struct TextureOptions {
+  ViewSelectionOptions selection;
+  // Photo pixels kept around each chart so bilinear lookups (and mip-maps in viewers) at a
+  // chart's edge read the photo, not the black atlas background: this is what hides seams.
+  int padding = 3;
+  // Texels of chart colour bled into the empty atlas around charts, for viewers' mip-maps
+  // (atlas_fill.h); 0: leave the background black.
+  int bleed_rings = 8;
+  int max_page_size = 8192;
+  cv::Vec3b unseen_color = {128, 128, 128};  // BGR, for unseen faces of a mesh without colours
+};
+
+struct TextureStats {
+  size_t num_faces = 0;
+  size_t num_textured_faces = 0;
+  size_t num_charts = 0;
+  size_t num_pages = 0;
+  size_t atlas_pixels = 0;
+  double seconds_selection = 0;
+  double seconds_atlas = 0;
+};
+
+// `load_image(v)` returns view v's photo (BGR, 8-bit, the camera's size). Throws varsfm::Error
+// for an empty mesh, no views, or a photo whose size differs from its camera.
+TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
+                         const std::function<cv::Mat(size_t)>& load_image,
+                         const TextureOptions& options = {}, TextureStats* stats = nullptr);
+
+}  // namespace varsfm

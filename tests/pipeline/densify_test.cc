@@ -1,0 +1,64 @@
+// `densify` as the pipeline runs it: bad input (a missing, empty or one-image sparse model)
+// stops with one varsfm::Error line naming the model, and nothing is written.
+#include "varsfm/pipeline/densify.h"
+
+#include <gtest/gtest.h>
+
+#include "support/test_data.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+using testing::TempDir;
+
+// Runs densify on `model` and returns the error message ("" when it did not throw).
+std::string DensifyError(const std::filesystem::path& model, const TempDir& tmp) {
+  DensifyCommandOptions options;
+  options.sparse = model;
+  options.image_dir = tmp.path();
+  options.output = tmp.path() / "out";
+  try {
+    RunDensify(options);
+  } catch (const Error& e) {
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "out" / "dense.ply"));
+    return e.what();
+  }
+  return "";
+}
+
+TEST(DensifyCommand, MissingModelIsAnError) {
+  const TempDir tmp("densify_missing");
+  const std::string message = DensifyError(tmp.path() / "nope", tmp);
+  EXPECT_NE(message.find("nope"), std::string::npos) << message;
+}
+
+TEST(DensifyCommand, EmptyModelIsAnError) {
+  const TempDir tmp("densify_empty");
+  WriteColmapModel(Reconstruction{}, tmp.path() / "sparse");
+  const std::string message = DensifyError(tmp.path() / "sparse", tmp);
+  EXPECT_NE(message.find("sparse"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(DensifyCommand, OneImageModelIsAnError) {
+  const TempDir tmp("densify_one");
+  Reconstruction one;
+  Camera camera = Camera::FromFocal(320, 240, 300);
+  camera.camera_id = 1;
+  one.AddCamera(camera);
+  Image image;
+  image.image_id = 1;
+  image.camera_id = 1;
+  image.name = "a.png";
+  image.registered = true;
+  one.AddImage(image);
+  WriteColmapModel(one, tmp.path() / "sparse");
+  const std::string message = DensifyError(tmp.path() / "sparse", tmp);
+  EXPECT_NE(message.find("1 registered image"), std::string::npos) << message;
+  EXPECT_NE(message.find("sparse"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace varsfm

@@ -1,0 +1,126 @@
+// End to end through the command-line tool: a sparse model with the synthetic scene's exact
+// cameras, its photos and a mesh of its geometry -> `texture` -> `render` and
+// `evaluate --render`; and one-line errors for bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "support/test_data.h"
+#include "synthetic_mesh.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/synthetic/rendered_scene.h"
+
+namespace varsfm {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+using testing::VarsfmBinary;
+
+std::string Q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+// OUT/sparse, OUT/images and OUT/mesh.ply for the rendered synthetic scene.
+void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered) {
+  RenderedSceneOptions o;
+  o.num_images = 4;
+  o.width = 320;
+  o.height = 240;
+  o.focal_start = 256;
+  o.k1 = -0.05;
+  o.supersampling = 1;
+  const RenderedScene scene = RenderSyntheticScene(o);
+  Reconstruction rec;
+  std::filesystem::create_directories(out / "images");
+  for (int i = 0; i < o.num_images; ++i) {
+    rec.AddCamera(scene.cameras[i]);
+    Image image;
+    image.image_id = static_cast<image_t>(i + 1);
+    image.camera_id = scene.cameras[i].camera_id;
+    image.name = fmt::format("view{}.png", i);
+    image.cam_from_world = scene.poses[i];
+    image.registered = i < num_registered;
+    rec.AddImage(image);
+    cv::imwrite((out / "images" / image.name).string(), scene.images[i]);
+  }
+  WriteColmapModel(rec, out / "sparse");
+  WriteMeshPly(out / "mesh.ply", testing::SyntheticSceneMesh());
+}
+
+TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
+  TempDir tmp("texture_cli");
+  const auto out = tmp.path();
+  WriteSyntheticInputs(out, 4);
+  std::string log;
+  ASSERT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}",
+                                   Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
+                                   Q(out / "images"), Q(out)),
+                       &log),
+            0)
+      << log;
+  for (const char* file :
+       {"textured/model.obj", "textured/model.mtl", "textured/model_0.png", "model.glb"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(out / file)) << file;
+
+  ASSERT_EQ(RunCommand(fmt::format("{} render --model {} --camera view2.png --output {}",
+                                   Q(VarsfmBinary()), Q(out), Q(out / "view2_render.png")),
+                       &log),
+            0)
+      << log;
+  const cv::Mat rendered = cv::imread((out / "view2_render.png").string());
+  EXPECT_EQ(rendered.cols, 320);
+  EXPECT_EQ(rendered.rows, 240);
+
+  // No --gt: the rendering report alone.
+  ASSERT_EQ(
+      RunCommand(fmt::format("{} evaluate {} --render --images {} --json {}", Q(VarsfmBinary()),
+                             Q(out / "sparse"), Q(out / "images"), Q(out / "render.json")),
+                 &log),
+      0)
+      << log;
+  EXPECT_NE(log.find("PSNR"), std::string::npos) << log;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out / "render.json"));
+  ASSERT_EQ(report["images"].size(), 4u);
+  EXPECT_GT(report["mean_psnr_db"].get<double>(), 25.0) << report.dump();
+  EXPECT_GT(report["mean_coverage"].get<double>(), 0.85) << report.dump();
+}
+
+TEST(TextureCommand, BadInputIsAOneLineError) {
+  TempDir tmp("texture_cli_bad");
+  const auto out = tmp.path();
+  WriteSyntheticInputs(out, 0);  // a model whose images are not registered: none written
+  std::string log;
+  const auto texture = [&](const std::filesystem::path& mesh) {
+    return RunCommand(
+        fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}", Q(VarsfmBinary()),
+                    Q(mesh), Q(out / "sparse"), Q(out / "images"), Q(out / "o")),
+        &log);
+  };
+  EXPECT_EQ(texture(out / "missing.ply"), 1);
+  EXPECT_NE(log.find("varsfm: error:"), std::string::npos) << log;
+  EXPECT_NE(log.find("missing.ply"), std::string::npos) << log;
+  EXPECT_EQ(texture(out / "mesh.ply"), 1);
+  EXPECT_NE(log.find("no registered images"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out / "o" / "model.glb"));
+
+  EXPECT_EQ(RunCommand(fmt::format("{} render --model {} --camera nope.png --output {}",
+                                   Q(VarsfmBinary()), Q(out), Q(out / "x.png")),
+                       &log),
+            1);
+  EXPECT_NE(log.find("varsfm: error:"), std::string::npos) << log;
+  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {}", Q(VarsfmBinary()), Q(out / "sparse")), &log),
+            1);
+  EXPECT_NE(log.find("--gt"), std::string::npos) << log;
+  EXPECT_NE(RunCommand(fmt::format("{} run {} {} --until everything", Q(VarsfmBinary()),
+                                   Q(out / "images"), Q(out / "run")),
+                       &log),
+            0);
+  EXPECT_NE(log.find("--until"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out / "run"));
+}
+
+}  // namespace
+}  // namespace varsfm
