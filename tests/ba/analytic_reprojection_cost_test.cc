@@ -24,9 +24,8 @@ struct Inputs {
 Inputs RandomInputs(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Inputs in;
-  const double camera[] = {900 + 200 * u(rng), 1.0 + 0.05 * u(rng), 2 * u(rng),
-                           512 + 20 * u(rng),  340 + 20 * u(rng),  0.2 * u(rng),
-                           0.05 * u(rng)};
+  const double camera[] = {900 + 200 * u(rng), 1.0 + 0.05 * u(rng), 2 * u(rng),   512 + 20 * u(rng),
+                           340 + 20 * u(rng),  0.2 * u(rng),        0.05 * u(rng)};
   std::copy(camera, camera + Camera::kNumParams, in.camera);
   for (int i = 0; i < Camera::kNumParams; ++i) in.group[i] = camera[i] * (1.0 + 0.1 * u(rng));
   Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));

@@ -109,7 +109,8 @@ TEST(TwoViewCalibration, UncertainFocalLengthsAreDegenerate) {
     const TwoViewCalibration r = Calibrate(MakePair(Base(seed)), options);
     ASSERT_TRUE(r.success) << "seed " << seed;
     EXPECT_TRUE(r.degenerate) << "seed " << seed;
-    EXPECT_NE(r.degeneracy_reason.find("poorly determined"), std::string::npos) << r.degeneracy_reason;
+    EXPECT_NE(r.degeneracy_reason.find("poorly determined"), std::string::npos)
+        << r.degeneracy_reason;
     EXPECT_GT(r.log_focal_std1, 0.015);
   }
 }

@@ -72,7 +72,8 @@ TEST(RunCommand, FountainP11ZoomRecoversEveryFocalLength) {
 TEST(DemoCommand, SyntheticZoomSceneIsAccurateAndRepeatable) {
   TempDir tmp("demo");
   std::string out;
-  ASSERT_EQ(RunCommand(fmt::format("{} demo --output {}", Q(VarsfmBinary()), Q(tmp.path())), &out), 0)
+  ASSERT_EQ(RunCommand(fmt::format("{} demo --output {}", Q(VarsfmBinary()), Q(tmp.path())), &out),
+            0)
       << out;
   const nlohmann::json e = ReadJson(tmp.path() / "evaluation.json");
   EXPECT_EQ(e["num_registered"], e["num_gt_images"]);

@@ -22,8 +22,8 @@ MapperInput MakeInput(const SyntheticScene& scene) {
   MapperInput in;
   for (int i = 0; i < scene.NumImages(); ++i) {
     const Camera& truth = scene.cameras[i];
-    Camera camera = Camera::FromFocal(truth.width, truth.height,
-                                      1.2 * std::max(truth.width, truth.height));
+    Camera camera =
+        Camera::FromFocal(truth.width, truth.height, 1.2 * std::max(truth.width, truth.height));
     camera.camera_id = i + 1;
     in.reconstruction.AddCamera(camera);
     Image image;
@@ -87,7 +87,8 @@ TEST(IncrementalMapper, ReconstructsZoomingOrbitAtTheNoiseFloor) {
     // k1 and k2 trade off per image; the distortion they describe must be the true one.
     const Camera& camera = rec.camera(image.camera_id);
     for (const double r : {0.2, 0.4}) {
-      const double d = 1 + camera.params[Camera::kK1] * r * r + camera.params[Camera::kK2] * std::pow(r, 4);
+      const double d =
+          1 + camera.params[Camera::kK1] * r * r + camera.params[Camera::kK2] * std::pow(r, 4);
       EXPECT_NEAR(d, 1 - 0.05 * r * r, 0.004) << "image " << i << " r " << r;
     }
     estimated.push_back(image.Center());

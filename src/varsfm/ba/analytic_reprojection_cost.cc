@@ -23,8 +23,8 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
 
   const double inv_z = 1.0 / p.z();
   const double nx = p.x() * inv_z, ny = p.y() * inv_z;
-  const double f = camera[Camera::kFocal], e = camera[Camera::kAspect],
-               s = camera[Camera::kSkew], k1 = camera[Camera::kK1], k2 = camera[Camera::kK2];
+  const double f = camera[Camera::kFocal], e = camera[Camera::kAspect], s = camera[Camera::kSkew],
+               k1 = camera[Camera::kK1], k2 = camera[Camera::kK2];
   const double r2 = nx * nx + ny * ny;
   const double d = 1.0 + r2 * (k1 + k2 * r2);
   const double mx = d * nx, my = d * ny;
@@ -78,8 +78,8 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
 bool AnalyticReprojectionCost::Evaluate(double const* const* parameters, double* residuals,
                                         double** jacobians) const {
   const auto J = [jacobians](int i) { return jacobians ? jacobians[i] : nullptr; };
-  return EvaluateReprojection(parameters[0], parameters[1], parameters[2], parameters[3],
-                              observed_, residuals, J(0), J(1), J(2), J(3));
+  return EvaluateReprojection(parameters[0], parameters[1], parameters[2], parameters[3], observed_,
+                              residuals, J(0), J(1), J(2), J(3));
 }
 
 bool AnalyticSharedIntrinsicsReprojectionCost::Evaluate(double const* const* parameters,

@@ -136,8 +136,8 @@ class ParameterBuffer {
                   unsigned shared_mask, const std::set<image_t>& images,
                   const std::set<point3D_t>& points)
       : group_members_(group_members), shared_mask_(shared_mask) {
-    data_.reserve((cameras.size() + shared_sizes.size()) * Camera::kNumParams +
-                  images.size() * 7 + points.size() * 3);
+    data_.reserve((cameras.size() + shared_sizes.size()) * Camera::kNumParams + images.size() * 7 +
+                  points.size() * 3);
     for (const camera_t id : cameras) {
       camera_[id] = data_.size();
       const auto& p = rec.camera(id).params;
@@ -333,9 +333,9 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
                                buffer.camera(image.camera_id), group, buffer.rotation(o.image_id),
                                buffer.translation(o.image_id), buffer.point(o.point3D_id));
     } else {
-      problem.AddResidualBlock(new AnalyticReprojectionCost(xy), loss, buffer.camera(image.camera_id),
-                               buffer.rotation(o.image_id), buffer.translation(o.image_id),
-                               buffer.point(o.point3D_id));
+      problem.AddResidualBlock(new AnalyticReprojectionCost(xy), loss,
+                               buffer.camera(image.camera_id), buffer.rotation(o.image_id),
+                               buffer.translation(o.image_id), buffer.point(o.point3D_id));
     }
   }
 

@@ -24,7 +24,6 @@
 #include <set>
 #include <string>
 #include <vector>
-#include <vector>
 
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/util/types.h"

@@ -62,8 +62,8 @@ class SharedIntrinsicsReprojectionCost {
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector2d& observed, unsigned shared_mask) {
-    return new ceres::AutoDiffCostFunction<SharedIntrinsicsReprojectionCost, 2,
-                                           Camera::kNumParams, Camera::kNumParams, 4, 3, 3>(
+    return new ceres::AutoDiffCostFunction<SharedIntrinsicsReprojectionCost, 2, Camera::kNumParams,
+                                           Camera::kNumParams, 4, 3, 3>(
         new SharedIntrinsicsReprojectionCost(observed, shared_mask));
   }
 

@@ -24,8 +24,7 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
 }  // namespace
 
 std::optional<std::pair<double, double>> TwoViewLogFocalStdDev(const Reconstruction& rec,
-                                                               image_t image_id1,
-                                                               image_t image_id2,
+                                                               image_t image_id1, image_t image_id2,
                                                                double sigma_px,
                                                                bool with_distortion) {
   const image_t ids[2] = {image_id1, image_id2};
@@ -33,14 +32,17 @@ std::optional<std::pair<double, double>> TwoViewLogFocalStdDev(const Reconstruct
   const Eigen::Vector3d t2 = rec.image(image_id2).cam_from_world.translation;
   if (t2.norm() == 0.0) return std::nullopt;
   const Eigen::Vector3d t_dir = t2.normalized();
-  Eigen::Vector3d any = std::abs(t_dir.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  Eigen::Vector3d any =
+      std::abs(t_dir.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   Eigen::Matrix<double, 3, 2> t_basis;
   t_basis.col(0) = t_dir.cross(any).normalized();
   t_basis.col(1) = t_dir.cross(t_basis.col(0));
 
-  Eigen::Matrix<double, kNumParams, kNumParams> S = Eigen::Matrix<double, kNumParams, kNumParams>::Zero();
+  Eigen::Matrix<double, kNumParams, kNumParams> S =
+      Eigen::Matrix<double, kNumParams, kNumParams>::Zero();
   for (const auto& [point_id, point] : rec.points3D()) {
-    Eigen::Matrix<double, kNumParams, kNumParams> A = Eigen::Matrix<double, kNumParams, kNumParams>::Zero();
+    Eigen::Matrix<double, kNumParams, kNumParams> A =
+        Eigen::Matrix<double, kNumParams, kNumParams>::Zero();
     Eigen::Matrix<double, kNumParams, 3> B = Eigen::Matrix<double, kNumParams, 3>::Zero();
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
     int observations = 0;
@@ -87,11 +89,12 @@ std::optional<std::pair<double, double>> TwoViewLogFocalStdDev(const Reconstruct
   const Eigen::MatrixXd S_used = S.topLeftCorner(n, n);
   // A relative eigenvalue threshold: below it the valley is flat and f is undetermined.
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S_used);
-  if (eig.info() != Eigen::Success || eig.eigenvalues().minCoeff() <= 1e-12 * eig.eigenvalues().maxCoeff())
+  if (eig.info() != Eigen::Success ||
+      eig.eigenvalues().minCoeff() <= 1e-12 * eig.eigenvalues().maxCoeff())
     return std::nullopt;
-  const Eigen::MatrixXd covariance =
-      sigma_px * sigma_px * eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() *
-      eig.eigenvectors().transpose();
+  const Eigen::MatrixXd covariance = sigma_px * sigma_px * eig.eigenvectors() *
+                                     eig.eigenvalues().cwiseInverse().asDiagonal() *
+                                     eig.eigenvectors().transpose();
   return std::make_pair(std::sqrt(covariance(0, 0)), std::sqrt(covariance(1, 1)));
 }
 

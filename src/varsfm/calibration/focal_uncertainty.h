@@ -19,8 +19,8 @@ namespace varsfm {
 // coordinate; `with_distortion`: k1, k2 of each camera are unknowns too (else held).
 // Returns nullopt when the information matrix is singular (f undetermined).
 std::optional<std::pair<double, double>> TwoViewLogFocalStdDev(const Reconstruction& rec,
-                                                               image_t image_id1,
-                                                               image_t image_id2, double sigma_px,
+                                                               image_t image_id1, image_t image_id2,
+                                                               double sigma_px,
                                                                bool with_distortion);
 
 }  // namespace varsfm

@@ -138,9 +138,9 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
     // prefer pairs that are not flagged (sfm/incremental_mapper.cc).
     if (std::max(result.log_focal_std1, result.log_focal_std2) > options.max_log_focal_std) {
       result.degenerate = true;
-      result.degeneracy_reason = fmt::format(
-          "focal lengths poorly determined (std of log f {:.3f}, {:.3f})", result.log_focal_std1,
-          result.log_focal_std2);
+      result.degeneracy_reason =
+          fmt::format("focal lengths poorly determined (std of log f {:.3f}, {:.3f})",
+                      result.log_focal_std1, result.log_focal_std2);
     }
   }
 

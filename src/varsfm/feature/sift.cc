@@ -34,8 +34,8 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   // location as a keypoint, COLMAP (like Lowe) caps locations and keeps their orientations, so
   // OpenCV is asked for a margin and the cap on locations is applied below.
   const int opencv_cap = options.max_features + options.max_features / 4;
-  cv::Ptr<cv::SIFT> sift = cv::SIFT::create(opencv_cap, 3, options.contrast_threshold,
-                                            options.edge_threshold, 1.6);
+  cv::Ptr<cv::SIFT> sift =
+      cv::SIFT::create(opencv_cap, 3, options.contrast_threshold, options.edge_threshold, 1.6);
   std::vector<cv::KeyPoint> cv_keypoints;
   cv::Mat cv_descriptors;
   sift->detectAndCompute(input, cv::noArray(), cv_keypoints, cv_descriptors);
@@ -59,11 +59,10 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
     int locations = 0;
     for (size_t i = 0; i < order.size(); ++i) {
       const cv::KeyPoint& kp = cv_keypoints[order[i]];
-      const bool same_location =
-          i > 0 && [&] {
-            const cv::KeyPoint& prev = cv_keypoints[order[i - 1]];
-            return prev.pt == kp.pt && prev.size == kp.size && prev.response == kp.response;
-          }();
+      const bool same_location = i > 0 && [&] {
+        const cv::KeyPoint& prev = cv_keypoints[order[i - 1]];
+        return prev.pt == kp.pt && prev.size == kp.size && prev.response == kp.response;
+      }();
       if (!same_location && ++locations > options.max_features) break;
       kept_end = i + 1;
     }

@@ -61,9 +61,10 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
     out << fmt::format("{} {} {}\n", t.x(), t.y(), t.z());
   }
   if (num_dropped > 0)
-    warn("{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
-         "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
-         file.string(), num_dropped, worst_deviation);
+    warn(
+        "{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
+        "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
+        file.string(), num_dropped, worst_deviation);
   for (const auto& [id, point] : rec.points3D()) {
     out << fmt::format("{} {} {}\n{} {} {}\n{}", point.xyz.x(), point.xyz.y(), point.xyz.z(),
                        point.color[0], point.color[1], point.color[2], point.track.size());

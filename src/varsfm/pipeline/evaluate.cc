@@ -70,10 +70,10 @@ std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
     if (options.image_dir.empty()) Fail("evaluate --render: --images (the photos) is required");
     RenderEvaluationOptions render;
     render.sparse = options.model_dir;
-    render.textured = options.textured.empty()
-                          ? std::filesystem::absolute(options.model_dir).lexically_normal() /
-                                ".." / "textured"
-                          : options.textured;
+    render.textured =
+        options.textured.empty()
+            ? std::filesystem::absolute(options.model_dir).lexically_normal() / ".." / "textured"
+            : options.textured;
     render.image_dir = options.image_dir;
     render.render_dir = options.render_dir;
     const RenderEvaluationReport report = EvaluateRenders(render);

@@ -35,7 +35,8 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
   for (const DbImage& db_image : db.ReadAllImages()) {
     if (!db.ExistsKeypoints(db_image.image_id)) continue;
     const auto db_camera = db.ReadCamera(db_image.camera_id);
-    if (!db_camera) Fail("workspace {}: image {} has no camera", options.workspace.string(), db_image.name);
+    if (!db_camera)
+      Fail("workspace {}: image {} has no camera", options.workspace.string(), db_image.name);
     // Every image starts from its own camera as extracted (prior focal, centred principal
     // point); the shared policy makes all images point at the first one.
     Camera camera = CameraFromColmap(db_camera->model_id, db_camera->params, db_camera->width,
@@ -152,7 +153,8 @@ MapResult RunMapping(const MapOptions& options) {
   result.reconstruction = std::move(ws.reconstruction);
 
   IncrementalMapperOptions mapper_options = options.mapper;
-  if (options.sharing == IntrinsicsSharing::kFocalPerImage) mapper_options.share_all_but_focal = true;
+  if (options.sharing == IntrinsicsSharing::kFocalPerImage)
+    mapper_options.share_all_but_focal = true;
   Progress progress("map", result.reconstruction.images().size());
   size_t shown = 0;
   mapper_options.progress = [&](size_t registered, size_t, double rms) {
@@ -177,7 +179,8 @@ MapResult RunMapping(const MapOptions& options) {
   result.seconds = total.Seconds();
 
   nlohmann::json summary = ReconstructionSummaryJson(rec);
-  summary["seconds"] = {{"map_total", result.seconds}, {"mapping", result.seconds_mapping},
+  summary["seconds"] = {{"map_total", result.seconds},
+                        {"mapping", result.seconds_mapping},
                         {"initialization", result.mapper.seconds_initialization},
                         {"registration", result.mapper.seconds_registration},
                         {"triangulation", result.mapper.seconds_triangulation},

@@ -13,8 +13,8 @@
 namespace varsfm {
 
 enum class IntrinsicsSharing {
-  kPerImage,  // every image its own camera (the paper; default)
-  kShared,    // one camera for all images (a fixed-zoom capture)
+  kPerImage,       // every image its own camera (the paper; default)
+  kShared,         // one camera for all images (a fixed-zoom capture)
   kFocalPerImage,  // focal length per image, the other intrinsics one set per image size
 };
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -51,8 +51,7 @@ IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o, bool whole
                           Camera::kV0,     Camera::kK1,   Camera::kK2};
   else if (share_pp && !o.refine_principal_point)
     in.shared_per_size = {Camera::kU0, Camera::kV0};
-  if (o.share_principal_point && !o.refine_principal_point)
-    in.refine_principal_point = whole_model;
+  if (o.share_principal_point && !o.refine_principal_point) in.refine_principal_point = whole_model;
   if (!whole_model)
     for (const int i : in.shared_per_size) {
       if (i == Camera::kAspect) in.refine_aspect = false;
@@ -136,8 +135,9 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   }
   if (!initialized) {
     *rec = empty;
-    summary.message = "no image pair could be initialised (too little parallax, or matches explained "
-                      "by a rotation or a plane)";
+    summary.message =
+        "no image pair could be initialised (too little parallax, or matches explained "
+        "by a rotation or a plane)";
     return summary;
   }
   summary.seconds_initialization = timer.Seconds();
@@ -248,8 +248,8 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   rec->RegisterImage(id2);
   for (size_t i = 0; i < inlier_matches.size(); ++i) {
     if (!calib.point_valid[i]) continue;
-    rec->AddPoint3D(calib.points[i], {{id1, inlier_matches[i].point2D_idx1},
-                                      {id2, inlier_matches[i].point2D_idx2}});
+    rec->AddPoint3D(calib.points[i],
+                    {{id1, inlier_matches[i].point2D_idx1}, {id2, inlier_matches[i].point2D_idx2}});
   }
   if (rec->points3D().size() < static_cast<size_t>(options_.min_initial_points)) return false;
   if (MedianTriangulationAngle(*rec) < options_.init_min_median_angle_deg * kDegree) {
@@ -292,8 +292,8 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
     size_t key = visible;
     if (options_.sequential_order) {
       // Nearest in sequence to the last registered image first.
-      const size_t distance = image_id > last_registered ? image_id - last_registered
-                                                         : last_registered - image_id;
+      const size_t distance =
+          image_id > last_registered ? image_id - last_registered : last_registered - image_id;
       key = std::numeric_limits<size_t>::max() - distance;
     }
     scored.push_back({key, image_id});
@@ -347,7 +347,8 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
 
   AbsolutePoseRefinementOptions refine;
   refine.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
-  if (shared_camera) refine.intrinsics = IntrinsicsOptions{false, false, false, false, false, false};
+  if (shared_camera)
+    refine.intrinsics = IntrinsicsOptions{false, false, false, false, false, false};
   refine.intrinsics.refine_k1 = refine.intrinsics.refine_k2 = false;  // few points: BA does it
 
   struct Hypothesis {
@@ -360,7 +361,8 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
     std::vector<Eigen::Vector2d> xi;
     std::vector<Eigen::Vector3d> Xi;
     for (size_t i = 0; i < x.size(); ++i)
-      if (ReprojectionError(h.camera, h.pose, x[i], X[i]) <= 4 * options_.registration_max_error_px) {
+      if (ReprojectionError(h.camera, h.pose, x[i], X[i]) <=
+          4 * options_.registration_max_error_px) {
         xi.push_back(x[i]);
         Xi.push_back(X[i]);
       }
@@ -469,8 +471,8 @@ size_t IncrementalMapper::TriangulateImage(Reconstruction* rec, image_t image_id
         fresh.push_back({corr.image_id, corr.point2D_idx});
         continue;
       }
-      const double error = std::sqrt(
-          rec->SquaredReprojectionError({image_id, idx}, rec->point3D(pid).xyz));
+      const double error =
+          std::sqrt(rec->SquaredReprojectionError({image_id, idx}, rec->point3D(pid).xyz));
       if (error < best_error) best_error = error, best_id = pid;
     }
     if (best_id != kInvalidPoint3DId) {

@@ -32,7 +32,7 @@ struct IncrementalMapperOptions {
   // a too-short baseline gives near-zero angles (and a meaningless structure).
   double init_min_median_angle_deg = 3.0;
 
-  int local_ba_images = 3;          // m0 of the paper
+  int local_ba_images = 3;  // m0 of the paper
   // Local adjustments stop at this relative cost decrease (Ceres' function tolerance): they
   // only need to keep the new images consistent, the global ones reach the minimum.
   double local_ba_function_tolerance = 1e-3;
