@@ -4,11 +4,10 @@
 // final RMS.
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <random>
 
 #include "varsfm/ba/bundle_adjuster.h"
-#include "varsfm/synthetic/synthetic_scene.h"
+#include "varsfm/synthetic/synthetic_reconstruction.h"
 
 namespace varsfm {
 namespace {
@@ -22,24 +21,7 @@ Reconstruction PerturbedScene() {
   o.focal_start = 800.0;
   o.focal_end = 1280.0;
   o.noise_sigma = 0.5;
-  const SyntheticScene scene = GenerateSyntheticScene(o);
-  Reconstruction rec;
-  std::map<int, std::vector<TrackElement>> tracks;
-  for (int i = 0; i < scene.NumImages(); ++i) {
-    rec.AddCamera(scene.cameras[i]);
-    Image image;
-    image.image_id = image.camera_id = static_cast<image_t>(i + 1);
-    image.cam_from_world = scene.poses[i];
-    image.registered = true;
-    for (const auto& obs : scene.observations[i]) {
-      tracks[obs.point_id].push_back(
-          {image.image_id, static_cast<point2D_t>(image.points2D.size())});
-      image.points2D.push_back({obs.pixel});
-    }
-    rec.AddImage(image);
-  }
-  for (const auto& [pid, track] : tracks)
-    if (track.size() >= 2) rec.AddPoint3D(scene.points[pid], track);
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(o));
   Rng rng(1);
   std::normal_distribution<double> n(0.0, 1.0);
   std::uniform_real_distribution<double> u(-0.05, 0.05);

@@ -1,0 +1,14 @@
+#pragma once
+// A Reconstruction holding a synthetic scene (synthetic_scene.h) exactly, so tests and
+// benchmarks of modules that consume a sparse model start from known ground truth.
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/synthetic/synthetic_scene.h"
+
+namespace varsfm {
+
+// Image i of the scene becomes image i + 1 with camera i + 1 (registered, true pose), its 2D
+// points are the scene's observations in order (points2D[j] is scene.observations[i][j], so
+// outlier flags can be looked up), and every point seen at least twice gets its true position.
+Reconstruction ReconstructionFromSynthetic(const SyntheticScene& scene);
+
+}  // namespace varsfm
