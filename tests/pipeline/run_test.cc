@@ -16,7 +16,8 @@ using testing::RunCommand;
 using testing::TempDir;
 using testing::VarsfmBinary;
 
-std::string Q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+// Shell-quoted path, for the command lines below.
+std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
 
 nlohmann::json ReadJson(const std::filesystem::path& file) {
   std::ifstream in(file);

@@ -28,6 +28,12 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
+std::string ShellQuote(const std::filesystem::path& path) {
+  std::string quoted = "'";
+  for (const char c : path.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
 int RunCommand(const std::string& command, std::string* output) {
   const std::string full = command + " 2>&1";
   FILE* pipe = popen(full.c_str(), "r");

@@ -24,6 +24,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// `path` quoted for a POSIX shell (single quotes; embedded ones escaped).
+std::string ShellQuote(const std::filesystem::path& path);
+
 // Runs a shell command, returning its exit code; stdout+stderr go to `output` if given.
 int RunCommand(const std::string& command, std::string* output = nullptr);
 
@@ -31,7 +34,7 @@ int RunCommand(const std::string& command, std::string* output = nullptr);
 
 // Skips the current test (with a message) unless ../shared/data/<relative> exists; otherwise
 // defines `data_path` as the full path.
-#define VARSFM_REQUIRE_SHARED_DATA(data_path, relative)                                  \
+#define VARSFM_REQUIRE_SHARED_DATA(data_path, relative)                                    \
   const std::filesystem::path data_path = ::varsfm::testing::SharedDataDir() / (relative); \
-  if (::varsfm::testing::SharedDataDir().empty() || !std::filesystem::exists(data_path))  \
+  if (::varsfm::testing::SharedDataDir().empty() || !std::filesystem::exists(data_path))   \
   GTEST_SKIP() << "../shared/data/" << (relative) << " is absent; skipping"

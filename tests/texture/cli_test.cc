@@ -21,7 +21,8 @@ using testing::RunCommand;
 using testing::TempDir;
 using testing::VarsfmBinary;
 
-std::string Q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+// Shell-quoted path, for the command lines below.
+std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
 
 // OUT/sparse, OUT/images and OUT/mesh.ply for the rendered synthetic scene.
 void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered) {

@@ -78,18 +78,17 @@ ceres::LossFunction* MakeLoss(const BundleAdjustmentOptions& options) {
   return nullptr;
 }
 
-// The indices of the camera block the options hold.
-std::vector<int> HeldIntrinsics(const IntrinsicsOptions& o) {
-  std::vector<int> held;
-  if (!o.refine_focal) held.push_back(Camera::kFocal);
-  if (!o.refine_aspect) held.push_back(Camera::kAspect);
-  if (!o.refine_skew) held.push_back(Camera::kSkew);
-  if (!o.refine_principal_point) {
-    held.push_back(Camera::kU0);
-    held.push_back(Camera::kV0);
-  }
-  if (!o.refine_k1) held.push_back(Camera::kK1);
-  if (!o.refine_k2) held.push_back(Camera::kK2);
+// The camera parameters the options hold, bit i for parameter i.
+unsigned HeldIntrinsicsMask(const IntrinsicsOptions& o) {
+  unsigned held = 0;
+  const auto hold_if = [&held](bool hold, int param) { held |= hold ? 1u << param : 0u; };
+  hold_if(!o.refine_focal, Camera::kFocal);
+  hold_if(!o.refine_aspect, Camera::kAspect);
+  hold_if(!o.refine_skew, Camera::kSkew);
+  hold_if(!o.refine_principal_point, Camera::kU0);
+  hold_if(!o.refine_principal_point, Camera::kV0);
+  hold_if(!o.refine_k1, Camera::kK1);
+  hold_if(!o.refine_k2, Camera::kK2);
   return held;
 }
 
@@ -364,8 +363,7 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     else if (!held.empty())
       problem.SetManifold(block, new ceres::SubsetManifold(Camera::kNumParams, held));
   };
-  unsigned held_mask = 0;
-  for (const int i : HeldIntrinsics(options.intrinsics)) held_mask |= 1u << i;
+  const unsigned held_mask = HeldIntrinsicsMask(options.intrinsics);
   const unsigned all = (1u << Camera::kNumParams) - 1;
   for (const camera_t id : problem_cameras)
     hold(buffer.camera(id), config.constant_cameras.count(id) ? all : held_mask | shared_mask);
