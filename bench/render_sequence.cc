@@ -1,8 +1,11 @@
 // Renders a long synthetic sequence for bench/scale: the project's textured scene
-// (synthetic/rendered_scene.h) filmed along an orbit by a zooming camera, written as
-// OUT/images/image_NNNN.png with Strecha ground truth in OUT/gt/.
-//   render_sequence OUT NUM_IMAGES [WIDTH HEIGHT ARC_DEGREES ZOOM SEED]
-// Defaults: 320 x 240, a 60 degree arc, zoom x1.6 over the sequence, the default seed.
+// (synthetic/rendered_scene.h) filmed by a zooming camera, written as OUT/images/image_NNNN.png
+// with Strecha ground truth in OUT/gt/.
+//   render_sequence OUT NUM_IMAGES [--width 320] [--height 240] [--zoom 1.6] [--seed S]
+//                   [--path orbit|street] [--arc 60] [--step 0.1]
+// orbit: around the room corner over --arc degrees for the whole sequence (zoom x1 -> x--zoom);
+// street: along a facade, --step metres per image (zoom in and out every 100 images), so that
+// every point stays in view for a bounded number of images however long the sequence.
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -11,21 +14,46 @@
 
 #include "varsfm/synthetic/rendered_scene.h"
 
+namespace {
+
+int Usage(const char* argv0) {
+  std::fprintf(stderr,
+               "usage: %s OUT NUM_IMAGES [--width W] [--height H] [--zoom Z] [--seed S] "
+               "[--path orbit|street] [--arc DEGREES] [--step METRES]\n",
+               argv0);
+  return 2;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  if (argc < 3 || argc > 8) {
-    std::fprintf(stderr,
-                 "usage: %s OUT NUM_IMAGES [WIDTH HEIGHT ARC_DEGREES ZOOM SEED]\n", argv[0]);
-    return 2;
-  }
+  if (argc < 3 || argc % 2 == 0) return Usage(argv[0]);
   try {
     const std::filesystem::path out = argv[1];
     varsfm::RenderedSceneOptions options;
     options.num_images = std::stoi(argv[2]);
-    options.width = argc > 3 ? std::stoi(argv[3]) : 320;
-    options.height = argc > 4 ? std::stoi(argv[4]) : 240;
-    options.arc_degrees = argc > 5 ? std::stod(argv[5]) : 60.0;
-    options.zoom = argc > 6 ? std::stod(argv[6]) : 1.6;
-    if (argc > 7) options.seed = std::stoull(argv[7]);
+    options.width = 320;
+    options.height = 240;
+    options.arc_degrees = 60.0;
+    for (int i = 3; i + 1 < argc; i += 2) {
+      const std::string flag = argv[i], value = argv[i + 1];
+      if (flag == "--width")
+        options.width = std::stoi(value);
+      else if (flag == "--height")
+        options.height = std::stoi(value);
+      else if (flag == "--zoom")
+        options.zoom = std::stod(value);
+      else if (flag == "--seed")
+        options.seed = std::stoull(value);
+      else if (flag == "--arc")
+        options.arc_degrees = std::stod(value);
+      else if (flag == "--step")
+        options.street_step = std::stod(value);
+      else if (flag == "--path" && (value == "orbit" || value == "street"))
+        options.path = value == "street" ? varsfm::CameraPath::kStreet : varsfm::CameraPath::kOrbit;
+      else
+        return Usage(argv[0]);
+    }
     // The demo's 640 px focal length is for 800 px wide images: keep the same field of view.
     options.focal_start = 0.8 * options.width;
     varsfm::WriteRenderedScene(varsfm::RenderSyntheticScene(options), out / "images", out / "gt");

@@ -32,6 +32,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   auto& m = map->mapper;
   cmd->add_option("--local-ba-images", m.local_ba_images, "m0: images in each local BA")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--local-ba-max-track", m.local_ba_max_track_length,
+                  "points seen by more images are held constant in local BAs (0: none)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--global-ba-images", m.first_global_ba_images,
                   "M0: images registered before the first global BA (0: after every image)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
@@ -55,6 +58,17 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                 "register images in sequence order (video, numbered photos)");
   cmd->add_option("--seed", m.seed, "random seed")->capture_default_str();
   cmd->add_option("--threads", m.num_threads, "bundle adjustment threads (1: reproducible bit for bit; 0: all cores)")->capture_default_str();
+  using Solver = varsfm::BundleAdjustmentOptions::Solver;
+  static const std::map<std::string, Solver> kSolvers = {
+      {"auto", Solver::kAuto},
+      {"dense", Solver::kDenseSchur},
+      {"sparse", Solver::kSparseSchurSuiteSparse},
+      {"sparse-eigen", Solver::kSparseSchurEigen},
+      {"iterative", Solver::kIterativeSchur}};
+  cmd->add_option("--ba-solver", m.ba_solver,
+                  "bundle adjustment linear solver: auto (by size) | dense | sparse | "
+                  "sparse-eigen | iterative (Schur complement each)")
+      ->transform(CLI::CheckedTransformer(kSolvers, CLI::ignore_case));
   static const std::map<std::string, varsfm::IntrinsicsSharing> kSharing = {
       {"per-image", varsfm::IntrinsicsSharing::kPerImage},
       {"shared", varsfm::IntrinsicsSharing::kShared},

@@ -1,6 +1,7 @@
 #include "varsfm/ba/analytic_reprojection_cost.h"
 
 #include <memory>
+#include <optional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -85,11 +86,72 @@ TEST(AnalyticReprojectionCost, SharedIntrinsicsMatchAutomaticDifferentiation) {
   for (const unsigned mask : {0u, 0x18u, 0x7eu, 0x7fu}) {  // none, (u0, v0), all but f, all
     for (int trial = 0; trial < 20; ++trial) {
       const Inputs in = RandomInputs(rng);
-      const AnalyticSharedIntrinsicsReprojectionCost analytic(in.observed, mask);
+      const AnalyticReprojectionCost analytic(in.observed,
+                                              ReprojectionBlocks::kCameraRotationTranslation, mask);
       const std::unique_ptr<ceres::CostFunction> autodiff(
           SharedIntrinsicsReprojectionCost::Create(in.observed, mask));
       ExpectSameEvaluation(analytic, *autodiff,
                            {in.camera, in.group, in.rotation, in.translation, in.point});
+    }
+  }
+}
+
+// The pose and image blocks hold the same parameters as the separate ones, concatenated: their
+// residuals and Jacobian columns must be the separate layout's, which the tests above check.
+TEST(AnalyticReprojectionCost, PoseAndImageBlocksConcatenateTheSeparateJacobians) {
+  std::mt19937 rng(5);
+  for (const std::optional<unsigned> mask : {std::optional<unsigned>{}, std::optional{0x18u}}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Inputs in = RandomInputs(rng);
+      // Separate blocks: camera [group] rotation translation point.
+      const AnalyticReprojectionCost separate(in.observed,
+                                              ReprojectionBlocks::kCameraRotationTranslation, mask);
+      std::vector<const double*> blocks = {in.camera};
+      if (mask) blocks.push_back(in.group);
+      blocks.insert(blocks.end(), {in.rotation, in.translation, in.point});
+      double r_sep[2], J_camera[14], J_group[14], J_rotation[8], J_translation[6], J_point[6];
+      std::vector<double*> jac = {J_camera};
+      if (mask) jac.push_back(J_group);
+      jac.insert(jac.end(), {J_rotation, J_translation, J_point});
+      ASSERT_TRUE(separate.Evaluate(blocks.data(), r_sep, jac.data()));
+
+      double pose[7], image[14];
+      std::copy_n(in.rotation, 4, pose);
+      std::copy_n(in.translation, 3, pose + 4);
+      std::copy_n(in.camera, 7, image);
+      std::copy_n(pose, 7, image + 7);
+      for (const ReprojectionBlocks layout :
+           {ReprojectionBlocks::kCameraPose, ReprojectionBlocks::kImage}) {
+        const AnalyticReprojectionCost cost(in.observed, layout, mask);
+        const bool image_block = layout == ReprojectionBlocks::kImage;
+        std::vector<const double*> b = {image_block ? image : in.camera};
+        if (mask) b.push_back(in.group);
+        if (!image_block) b.push_back(pose);
+        b.push_back(in.point);
+        double r[2], J_own[28], J_g[14], J_pose[14], J_p[6];
+        std::vector<double*> j = {J_own};
+        if (mask) j.push_back(J_g);
+        if (!image_block) j.push_back(J_pose);
+        j.push_back(J_p);
+        ASSERT_EQ(cost.parameter_block_sizes().size(), b.size());
+        ASSERT_TRUE(cost.Evaluate(b.data(), r, j.data()));
+        EXPECT_EQ(r[0], r_sep[0]);
+        EXPECT_EQ(r[1], r_sep[1]);
+        // Row `row`, parameter `k` of the pose part (rotation 0-3, translation 4-6).
+        const auto pose_jacobian = [&](int row, int k) {
+          return image_block ? J_own[row * 14 + 7 + k] : J_pose[row * 7 + k];
+        };
+        const int own_stride = image_block ? 14 : 7;
+        for (int row = 0; row < 2; ++row) {
+          for (int k = 0; k < 7; ++k) EXPECT_EQ(J_own[row * own_stride + k], J_camera[row * 7 + k]);
+          if (mask)
+            for (int k = 0; k < 7; ++k) EXPECT_EQ(J_g[row * 7 + k], J_group[row * 7 + k]);
+          for (int k = 0; k < 4; ++k) EXPECT_EQ(pose_jacobian(row, k), J_rotation[row * 4 + k]);
+          for (int k = 0; k < 3; ++k)
+            EXPECT_EQ(pose_jacobian(row, 4 + k), J_translation[row * 3 + k]);
+          for (int k = 0; k < 3; ++k) EXPECT_EQ(J_p[row * 3 + k], J_point[row * 3 + k]);
+        }
+      }
     }
   }
 }

@@ -172,6 +172,52 @@ TEST(BundleAdjuster, LocalLeavesConstantImagesBitForBitUntouched) {
   }
 }
 
+// With a track-length cap, long-track points are held and enter only through the variable
+// images' observations; they bring in no other image, and the poses still converge.
+TEST(BundleAdjuster, LocalTrackCapHoldsLongTracks) {
+  const SyntheticScene scene = GenerateSyntheticScene(ZoomScene(11));
+  Reconstruction rec = ReconstructionFromSynthetic(scene);
+  const std::vector<image_t> variable = {13, 14, 15};
+  constexpr size_t kCap = 6;
+  const BundleAdjustmentConfig full = BundleAdjustmentConfig::Local(rec, variable);
+  const BundleAdjustmentConfig capped = BundleAdjustmentConfig::Local(rec, variable, kCap);
+  EXPECT_TRUE(full.constant_points.empty());
+  ASSERT_FALSE(capped.constant_points.empty());
+  EXPECT_LT(capped.constant_pose_images.size(), full.constant_pose_images.size());
+  size_t expected_residuals = 0;
+  std::set<point3D_t> seen;
+  for (const image_t id : variable)
+    for (const Point2D& p : rec.image(id).points2D)
+      if (p.HasPoint3D()) seen.insert(p.point3D_id);
+  for (const point3D_t id : seen) {
+    const auto& track = rec.point3D(id).track;
+    EXPECT_EQ(capped.constant_points.count(id) > 0, track.size() > kCap) << id;
+    size_t n = 0;
+    for (const TrackElement& el : track)
+      n += capped.variable_pose_images.count(el.image_id) ||
+           (track.size() <= kCap && capped.constant_pose_images.count(el.image_id));
+    if (track.size() > kCap || n >= 2) expected_residuals += n;
+  }
+  // Move the variable images off the truth (0.5 deg, 5 cm, 3 % focal length).
+  for (const image_t id : variable) {
+    Rigid3d& pose = rec.image(id).cam_from_world;
+    pose.rotation = Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitY()) * pose.rotation;
+    pose.translation += Eigen::Vector3d(0.05, -0.03, 0.02);
+    rec.CameraOf(id).focal() *= 1.03;
+  }
+  const Reconstruction before = rec;
+  const BundleAdjustmentSummary s = RunBundleAdjustment({}, capped, &rec);
+  ASSERT_TRUE(s.success) << s.report;
+  EXPECT_EQ(static_cast<size_t>(s.num_residuals), expected_residuals);
+  for (const point3D_t id : capped.constant_points)
+    EXPECT_TRUE(SameBits(before.point3D(id).xyz.data(), rec.point3D(id).xyz.data(), 3)) << id;
+  for (const image_t id : variable) {
+    EXPECT_LT((rec.image(id).Center() - scene.poses[id - 1].Center()).norm(), 0.01);
+    EXPECT_NEAR(rec.CameraOf(id).focal(), scene.cameras[id - 1].focal(),
+                0.01 * scene.cameras[id - 1].focal());
+  }
+}
+
 TEST(BundleAdjuster, HeldIntrinsicsStayExactly) {
   const SyntheticScene scene = GenerateSyntheticScene(ZoomScene(5));
   Reconstruction rec = ReconstructionFromSynthetic(scene);

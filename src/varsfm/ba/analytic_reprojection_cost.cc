@@ -3,16 +3,24 @@
 namespace varsfm {
 namespace {
 
-using RowMajor2x3 = Eigen::Matrix<double, 2, 3, Eigen::RowMajor>;
-using RowMajor2x4 = Eigen::Matrix<double, 2, 4, Eigen::RowMajor>;
-using RowMajor2x7 = Eigen::Matrix<double, 2, Camera::kNumParams, Eigen::RowMajor>;
+// A Jacobian's destination: two rows `stride` apart (the block may hold more parameters than
+// the ones written), or none.
+struct JacobianOut {
+  double* data = nullptr;
+  int stride = 0;
+  explicit operator bool() const { return data != nullptr; }
+  template <int Cols>
+  Eigen::Map<Eigen::Matrix<double, 2, Cols, Eigen::RowMajor>, 0, Eigen::OuterStride<>> Map() const {
+    return {data, 2, Cols, Eigen::OuterStride<>(stride)};
+  }
+};
 
-// Residual and the Jacobians the caller asks for (null pointers are skipped); the derivation is
-// in analytic_reprojection_cost.h. Returns false behind the camera (no valid projection).
+// Residual and the Jacobians the caller asks for; the derivation is in
+// analytic_reprojection_cost.h. Returns false when the point is in the camera's plane.
 bool EvaluateReprojection(const double* camera, const double* rotation, const double* translation,
                           const double* point, const Eigen::Vector2d& observed, double* residuals,
-                          double* d_camera, double* d_rotation, double* d_translation,
-                          double* d_point) {
+                          JacobianOut d_camera, JacobianOut d_rotation, JacobianOut d_translation,
+                          JacobianOut d_point) {
   const Eigen::Vector3d v(rotation[0], rotation[1], rotation[2]);
   const double w = rotation[3];
   const Eigen::Map<const Eigen::Vector3d> X(point);
@@ -34,8 +42,7 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
   if (d_camera) {
     const double a = (f * nx + s * ny) * r2;
     const double b = e * f * ny * r2;
-    Eigen::Map<RowMajor2x7> J(d_camera);
-    J << mx, 0.0, my, 1.0, 0.0, a, a * r2,  //
+    d_camera.Map<Camera::kNumParams>() << mx, 0.0, my, 1.0, 0.0, a, a * r2,  //
         e * my, f * my, 0.0, 0.0, 1.0, b, b * r2;
   }
   if (!d_rotation && !d_translation && !d_point) return true;
@@ -53,11 +60,11 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
       0.0, inv_z, -ny * inv_z;
   const Eigen::Matrix<double, 2, 3> J_p = A * B * C;
 
-  if (d_translation) Eigen::Map<RowMajor2x3>{d_translation} = J_p;
+  if (d_translation) d_translation.Map<3>() = J_p;
   if (d_point) {
     // dp/dX = R(q), built from the same unit-quaternion formula.
     const Eigen::Quaterniond q(w, v.x(), v.y(), v.z());
-    Eigen::Map<RowMajor2x3>{d_point} = J_p * q.toRotationMatrix();
+    d_point.Map<3>() = J_p * q.toRotationMatrix();
   }
   if (d_rotation) {
     Eigen::Matrix3d X_cross;
@@ -68,44 +75,97 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
     dp_dq.leftCols<3>() = -2.0 * w * X_cross + 2.0 * (v.dot(X) * Eigen::Matrix3d::Identity() +
                                                       v * X.transpose() - 2.0 * X * v.transpose());
     dp_dq.col(3) = 2.0 * vxX;
-    Eigen::Map<RowMajor2x4>{d_rotation} = J_p * dp_dq;
+    d_rotation.Map<4>() = J_p * dp_dq;
   }
   return true;
 }
 
 }  // namespace
 
-bool AnalyticReprojectionCost::Evaluate(double const* const* parameters, double* residuals,
-                                        double** jacobians) const {
-  const auto J = [jacobians](int i) { return jacobians ? jacobians[i] : nullptr; };
-  return EvaluateReprojection(parameters[0], parameters[1], parameters[2], parameters[3], observed_,
-                              residuals, J(0), J(1), J(2), J(3));
+AnalyticReprojectionCost::AnalyticReprojectionCost(const Eigen::Vector2d& observed,
+                                                   ReprojectionBlocks blocks,
+                                                   std::optional<unsigned> shared_mask)
+    : observed_(observed), blocks_(blocks), shared_mask_(shared_mask) {
+  set_num_residuals(2);
+  auto* sizes = mutable_parameter_block_sizes();
+  sizes->push_back(blocks == ReprojectionBlocks::kImage ? Camera::kNumParams + 7
+                                                        : Camera::kNumParams);
+  if (shared_mask) sizes->push_back(Camera::kNumParams);
+  if (blocks == ReprojectionBlocks::kCameraRotationTranslation) {
+    sizes->push_back(4);
+    sizes->push_back(3);
+  } else if (blocks == ReprojectionBlocks::kCameraPose) {
+    sizes->push_back(7);
+  }
+  sizes->push_back(3);
 }
 
-bool AnalyticSharedIntrinsicsReprojectionCost::Evaluate(double const* const* parameters,
-                                                        double* residuals,
-                                                        double** jacobians) const {
+bool AnalyticReprojectionCost::Evaluate(double const* const* parameters, double* residuals,
+                                        double** jacobians) const {
+  const auto J = [jacobians](int i, int stride) {
+    return JacobianOut{jacobians ? jacobians[i] : nullptr, stride};
+  };
+  // Where each parameter and its Jacobian are, by layout.
+  int b = 0;
+  const double* own = parameters[b];
+  const int own_size =
+      blocks_ == ReprojectionBlocks::kImage ? Camera::kNumParams + 7 : Camera::kNumParams;
+  const JacobianOut d_own = J(b++, own_size);
+  const double* group = nullptr;
+  JacobianOut d_group;
+  if (shared_mask_) {
+    group = parameters[b];
+    d_group = J(b++, Camera::kNumParams);
+  }
+  const double *rotation, *translation;
+  JacobianOut d_rotation, d_translation;
+  switch (blocks_) {
+    case ReprojectionBlocks::kCameraRotationTranslation:
+      rotation = parameters[b];
+      d_rotation = J(b++, 4);
+      translation = parameters[b];
+      d_translation = J(b++, 3);
+      break;
+    case ReprojectionBlocks::kCameraPose:
+      rotation = parameters[b];
+      translation = rotation + 4;
+      d_rotation = J(b++, 7);
+      break;
+    case ReprojectionBlocks::kImage:
+      rotation = own + Camera::kNumParams;
+      translation = rotation + 4;
+      d_rotation = JacobianOut{d_own.data ? d_own.data + Camera::kNumParams : nullptr, own_size};
+      break;
+  }
+  if (blocks_ != ReprojectionBlocks::kCameraRotationTranslation && d_rotation)
+    d_translation = JacobianOut{d_rotation.data + 4, d_rotation.stride};
+  const double* point = parameters[b];
+  const JacobianOut d_point = J(b, 3);
+
+  if (!shared_mask_)
+    return EvaluateReprojection(own, rotation, translation, point, observed_, residuals, d_own,
+                                d_rotation, d_translation, d_point);
+
+  const unsigned mask = *shared_mask_;
   double camera[Camera::kNumParams];
-  for (int i = 0; i < Camera::kNumParams; ++i)
-    camera[i] = (shared_mask_ >> i) & 1u ? parameters[1][i] : parameters[0][i];
-  const auto J = [jacobians](int i) { return jacobians ? jacobians[i] : nullptr; };
-  const bool want_camera = J(0) || J(1);
-  double d_camera[2 * Camera::kNumParams];
-  if (!EvaluateReprojection(camera, parameters[2], parameters[3], parameters[4], observed_,
-                            residuals, want_camera ? d_camera : nullptr, J(2), J(3), J(4)))
+  for (int i = 0; i < Camera::kNumParams; ++i) camera[i] = (mask >> i) & 1u ? group[i] : own[i];
+  Eigen::Matrix<double, 2, Camera::kNumParams, Eigen::RowMajor> d_camera;
+  const bool want_camera = d_own || d_group;
+  if (!EvaluateReprojection(
+          camera, rotation, translation, point, observed_, residuals,
+          JacobianOut{want_camera ? d_camera.data() : nullptr, Camera::kNumParams}, d_rotation,
+          d_translation, d_point))
     return false;
   // Each column of the camera Jacobian goes to the block the parameter comes from; the other
   // block's column is zero.
-  for (int block = 0; block < 2; ++block) {
-    if (!J(block)) continue;
-    Eigen::Map<RowMajor2x7> out(J(block));
-    const Eigen::Map<const RowMajor2x7> full(d_camera);
+  for (const auto& [out, from_group] : {std::pair{d_own, false}, std::pair{d_group, true}}) {
+    if (!out) continue;
+    auto block = out.Map<Camera::kNumParams>();
     for (int i = 0; i < Camera::kNumParams; ++i) {
-      const bool shared = (shared_mask_ >> i) & 1u;
-      if (shared == (block == 1))
-        out.col(i) = full.col(i);
+      if ((((mask >> i) & 1u) != 0) == from_group)
+        block.col(i) = d_camera.col(i);
       else
-        out.col(i).setZero();
+        block.col(i).setZero();
     }
   }
   return true;

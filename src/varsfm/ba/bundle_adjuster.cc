@@ -117,41 +117,63 @@ std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& confi
   std::vector<Observation> observations;
   for (const point3D_t pid : point_ids) {
     const size_t begin = observations.size();
+    const bool constant = config.constant_points.count(pid) > 0;
     for (const TrackElement& el : rec.point3D(pid).track)
       if (config.variable_pose_images.count(el.image_id) ||
-          config.constant_pose_images.count(el.image_id))
+          (!constant && config.constant_pose_images.count(el.image_id)))
         observations.push_back({el.image_id, el.point2D_idx, pid});
-    if (observations.size() - begin < 2) observations.resize(begin);
+    if (!constant && observations.size() - begin < 2) observations.resize(begin);
   }
   return observations;
 }
 
-// The problem's parameters, copied into one contiguous buffer laid out in id order (cameras,
-// shared per-size intrinsics and poses first, then points) so that Ceres' address-ordered
-// elimination groups come out the same in every run (see bundle_adjuster.h).
+// The problem's parameters, copied into one contiguous buffer laid out in id order so that
+// Ceres' address-ordered elimination groups come out the same in every run (see
+// bundle_adjuster.h). An image whose camera no other image of the problem uses gets one block,
+// [camera (7), quaternion (4), translation (3)] (ReprojectionBlocks::kImage: the Schur
+// elimination's cost grows with the square of the blocks per image); otherwise the camera and
+// the pose [quaternion, translation] are two blocks. Then the shared per-size blocks, then the
+// points.
 class ParameterBuffer {
  public:
   using SizeKey = std::pair<int, int>;  // image width, height
 
   // `group_members`: the cameras that take parameters from their size's shared block.
-  ParameterBuffer(const Reconstruction& rec, const std::set<camera_t>& cameras,
+  ParameterBuffer(const Reconstruction& rec, const std::set<image_t>& images,
                   const std::set<SizeKey>& shared_sizes, const std::set<camera_t>& group_members,
-                  unsigned shared_mask, const std::set<image_t>& images,
-                  const std::set<point3D_t>& points)
+                  unsigned shared_mask, const std::set<point3D_t>& points)
       : group_members_(group_members), shared_mask_(shared_mask) {
-    data_.reserve((cameras.size() + shared_sizes.size()) * Camera::kNumParams + images.size() * 7 +
-                  points.size() * 3);
-    for (const camera_t id : cameras) {
+    std::map<camera_t, int> images_of_camera;
+    for (const image_t id : images) ++images_of_camera[rec.image(id).camera_id];
+    data_.reserve(images.size() * (Camera::kNumParams + 7) +
+                  shared_sizes.size() * Camera::kNumParams + points.size() * 3);
+    const auto add_camera = [&](camera_t id) {
       camera_[id] = data_.size();
       const auto& p = rec.camera(id).params;
       data_.insert(data_.end(), p.begin(), p.end());
+    };
+    const auto add_pose = [&](image_t id) {
+      pose_[id] = data_.size();
+      const Rigid3d& pose = rec.image(id).cam_from_world;
+      const Eigen::Vector4d q = pose.rotation.normalized().coeffs();  // x, y, z, w
+      data_.insert(data_.end(), q.data(), q.data() + 4);
+      data_.insert(data_.end(), pose.translation.data(), pose.translation.data() + 3);
+    };
+    for (const image_t id : images) {
+      const camera_t camera_id = rec.image(id).camera_id;
+      if (images_of_camera.at(camera_id) != 1) continue;
+      image_block_.insert(id);
+      add_camera(camera_id);
+      add_pose(id);
     }
+    for (const auto& [id, count] : images_of_camera)
+      if (count > 1) add_camera(id);
     // A shared block starts at the mean of its cameras' parameters.
     for (const SizeKey& size : shared_sizes) {
       Eigen::Matrix<double, Camera::kNumParams, 1> sum;
       sum.setZero();
       int n = 0;
-      for (const camera_t id : cameras) {
+      for (const auto& [id, count] : images_of_camera) {
         const Camera& c = rec.camera(id);
         if (SizeKey{c.width, c.height} != size || !group_members.count(id)) continue;
         sum += Eigen::Map<const Eigen::Matrix<double, Camera::kNumParams, 1>>(c.params.data());
@@ -160,13 +182,8 @@ class ParameterBuffer {
       group_[size] = data_.size();
       for (int i = 0; i < Camera::kNumParams; ++i) data_.push_back(sum[i] / std::max(n, 1));
     }
-    for (const image_t id : images) {
-      pose_[id] = data_.size();
-      const Rigid3d& pose = rec.image(id).cam_from_world;
-      const Eigen::Vector4d q = pose.rotation.normalized().coeffs();  // x, y, z, w
-      data_.insert(data_.end(), q.data(), q.data() + 4);
-      data_.insert(data_.end(), pose.translation.data(), pose.translation.data() + 3);
-    }
+    for (const image_t id : images)
+      if (!image_block_.count(id)) add_pose(id);
     for (const point3D_t id : points) {
       point_[id] = data_.size();
       const Eigen::Vector3d& x = rec.point3D(id).xyz;
@@ -174,9 +191,10 @@ class ParameterBuffer {
     }
   }
 
+  // Whether the image's camera and pose are one block (starting at camera(its camera)).
+  bool HasImageBlock(image_t id) const { return image_block_.count(id) > 0; }
   double* camera(camera_t id) { return &data_[camera_.at(id)]; }
-  double* rotation(image_t id) { return &data_[pose_.at(id)]; }
-  double* translation(image_t id) { return &data_[pose_.at(id) + 4]; }
+  double* pose(image_t id) { return &data_[pose_.at(id)]; }  // quaternion, translation
   double* point(point3D_t id) { return &data_[point_.at(id)]; }
   double* group(const SizeKey& size) { return &data_[group_.at(size)]; }
   // The shared block the camera takes parameters from; null when it has none.
@@ -184,6 +202,8 @@ class ParameterBuffer {
     return group_members_.count(camera.camera_id) ? group(SizeKey{camera.width, camera.height})
                                                   : nullptr;
   }
+  const std::map<camera_t, size_t>& cameras() const { return camera_; }
+  const std::map<SizeKey, size_t>& groups() const { return group_; }
 
   // Writes the optimised values back (the shared principal points into each of their cameras);
   // what the config holds constant is left untouched, bit for bit.
@@ -210,6 +230,7 @@ class ParameterBuffer {
 
  private:
   std::vector<double> data_;
+  std::set<image_t> image_block_;
   std::map<camera_t, size_t> camera_;
   std::map<SizeKey, size_t> group_;
   std::set<camera_t> group_members_;
@@ -245,26 +266,83 @@ std::set<camera_t> SharedGroupMembers(const IntrinsicsOptions& options,
   return members;
 }
 
-// Holds the gauge (see bundle_adjuster.h) by making pose blocks constant or partly constant.
-void FixGauge(const BundleAdjustmentConfig& config, const std::set<image_t>& problem_images,
-              const Reconstruction& rec, ParameterBuffer* buffer, ceres::Problem* problem) {
+// What of an image's pose the problem holds: nothing, all of it, or (kScale) one coordinate of
+// the translation, the one along which the image moved most from the gauge image.
+struct PoseHold {
+  enum Kind { kFree, kConstant, kScale } kind = kFree;
+  int coordinate = 0;
+};
+
+// Holds the gauge (see bundle_adjuster.h) through the images' pose holds, unless constant
+// points in the problem hold it (three or more).
+std::map<image_t, PoseHold> PoseHolds(const BundleAdjustmentConfig& config,
+                                      const std::set<image_t>& problem_images,
+                                      size_t num_constant_points, const Reconstruction& rec) {
+  std::map<image_t, PoseHold> holds;
   std::vector<image_t> constant, variable;
-  for (const image_t id : problem_images)
-    (config.variable_pose_images.count(id) ? variable : constant).push_back(id);
-  if (constant.size() >= 2 || variable.empty()) return;
+  for (const image_t id : problem_images) {
+    const bool is_variable = config.variable_pose_images.count(id) > 0;
+    (is_variable ? variable : constant).push_back(id);
+    holds[id].kind = is_variable ? PoseHold::kFree : PoseHold::kConstant;
+  }
+  if (constant.size() >= 2 || variable.empty() || num_constant_points >= 3) return holds;
   if (constant.empty()) {
     constant.push_back(variable.front());
     variable.erase(variable.begin());
-    problem->SetParameterBlockConstant(buffer->rotation(constant.front()));
-    problem->SetParameterBlockConstant(buffer->translation(constant.front()));
+    holds[constant.front()].kind = PoseHold::kConstant;
   }
-  if (variable.empty()) return;
+  if (variable.empty()) return holds;
   const Eigen::Vector3d c0 = rec.image(constant.front()).Center();
   const Rigid3d& pose = rec.image(variable.front()).cam_from_world;
   const Eigen::Vector3d d = pose.rotation * (pose.Center() - c0);
-  int k = 0;
-  d.cwiseAbs().maxCoeff(&k);
-  problem->SetManifold(buffer->translation(variable.front()), new ceres::SubsetManifold(3, {k}));
+  d.cwiseAbs().maxCoeff(&holds[variable.front()].coordinate);
+  holds[variable.front()].kind = PoseHold::kScale;
+  return holds;
+}
+
+// The indices of the set bits of `mask` below `size`.
+std::vector<int> Bits(unsigned mask, int size) {
+  std::vector<int> bits;
+  for (int i = 0; i < size; ++i)
+    if ((mask >> i) & 1u) bits.push_back(i);
+  return bits;
+}
+
+// A manifold of `size` parameters of which those in `held` stay constant; null when none is.
+std::unique_ptr<ceres::Manifold> Subset(int size, unsigned held) {
+  if (held == 0) return std::make_unique<ceres::EuclideanManifold<ceres::DYNAMIC>>(size);
+  return std::make_unique<ceres::SubsetManifold>(size, Bits(held, size));
+}
+
+// The manifolds of a pose [quaternion, translation] and an image block [camera, pose] (a unit
+// quaternion has 3 degrees of freedom); the block is constant when nothing in it is free.
+void SetPoseManifold(const PoseHold& hold, double* pose, ceres::Problem* problem) {
+  using Pose =
+      ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>>;
+  if (hold.kind == PoseHold::kConstant) return problem->SetParameterBlockConstant(pose);
+  problem->SetManifold(
+      pose, new Pose(std::make_unique<ceres::EigenQuaternionManifold>(),
+                     Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u)));
+}
+
+void SetImageManifold(const PoseHold& hold, unsigned held_camera, double* block,
+                      ceres::Problem* problem) {
+  using Image =
+      ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>,
+                             std::unique_ptr<ceres::Manifold>>;
+  const unsigned all_camera = (1u << Camera::kNumParams) - 1;
+  if (hold.kind == PoseHold::kConstant && held_camera == all_camera)
+    return problem->SetParameterBlockConstant(block);
+  std::unique_ptr<ceres::Manifold> rotation, translation;
+  if (hold.kind == PoseHold::kConstant) {
+    rotation = Subset(4, 0xfu);
+    translation = Subset(3, 0x7u);
+  } else {
+    rotation = std::make_unique<ceres::EigenQuaternionManifold>();
+    translation = Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u);
+  }
+  problem->SetManifold(block, new Image(Subset(Camera::kNumParams, held_camera),
+                                        std::move(rotation), std::move(translation)));
 }
 
 }  // namespace
@@ -277,7 +355,8 @@ BundleAdjustmentConfig BundleAdjustmentConfig::Global(const Reconstruction& reco
 }
 
 BundleAdjustmentConfig BundleAdjustmentConfig::Local(const Reconstruction& reconstruction,
-                                                     const std::vector<image_t>& variable_images) {
+                                                     const std::vector<image_t>& variable_images,
+                                                     size_t max_track_length) {
   BundleAdjustmentConfig config;
   config.variable_pose_images.insert(variable_images.begin(), variable_images.end());
   std::set<camera_t> variable_cameras;
@@ -286,7 +365,12 @@ BundleAdjustmentConfig BundleAdjustmentConfig::Local(const Reconstruction& recon
     variable_cameras.insert(image.camera_id);
     for (const Point2D& p : image.points2D) {
       if (!p.HasPoint3D()) continue;
-      for (const TrackElement& el : reconstruction.point3D(p.point3D_id).track)
+      const std::vector<TrackElement>& track = reconstruction.point3D(p.point3D_id).track;
+      if (max_track_length > 0 && track.size() > max_track_length) {
+        config.constant_points.insert(p.point3D_id);
+        continue;
+      }
+      for (const TrackElement& el : track)
         if (!config.variable_pose_images.count(el.image_id) &&
             reconstruction.image(el.image_id).registered)
           config.constant_pose_images.insert(el.image_id);
@@ -322,52 +406,59 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   std::set<ParameterBuffer::SizeKey> shared_sizes;
   const std::set<camera_t> group_members =
       SharedGroupMembers(options.intrinsics, config, problem_cameras, rec, &shared_sizes);
-  ParameterBuffer buffer(rec, problem_cameras, shared_sizes, group_members, shared_mask,
-                         problem_images, problem_points);
+  ParameterBuffer buffer(rec, problem_images, shared_sizes, group_members, shared_mask,
+                         problem_points);
 
   ceres::Problem problem;  // takes ownership of costs, the shared loss and manifolds
   ceres::LossFunction* loss = MakeLoss(options);
+  std::vector<double*> blocks;
   for (const Observation& o : observations) {
     const Image& image = rec.image(o.image_id);
     const Camera& camera = rec.camera(image.camera_id);
-    const Eigen::Vector2d& xy = image.points2D[o.point2D_idx].xy;
-    if (double* group = buffer.group(camera)) {
-      problem.AddResidualBlock(new AnalyticSharedIntrinsicsReprojectionCost(xy, shared_mask), loss,
-                               buffer.camera(image.camera_id), group, buffer.rotation(o.image_id),
-                               buffer.translation(o.image_id), buffer.point(o.point3D_id));
-    } else {
-      problem.AddResidualBlock(new AnalyticReprojectionCost(xy), loss,
-                               buffer.camera(image.camera_id), buffer.rotation(o.image_id),
-                               buffer.translation(o.image_id), buffer.point(o.point3D_id));
-    }
+    double* group = buffer.group(camera);
+    const bool image_block = buffer.HasImageBlock(o.image_id);
+    blocks = {buffer.camera(image.camera_id)};
+    if (group) blocks.push_back(group);
+    if (!image_block) blocks.push_back(buffer.pose(o.image_id));
+    blocks.push_back(buffer.point(o.point3D_id));
+    problem.AddResidualBlock(
+        new AnalyticReprojectionCost(
+            image.points2D[o.point2D_idx].xy,
+            image_block ? ReprojectionBlocks::kImage : ReprojectionBlocks::kCameraPose,
+            group ? std::optional<unsigned>(shared_mask) : std::nullopt),
+        loss, blocks);
   }
 
-  for (const image_t id : problem_images) {
-    problem.SetManifold(buffer.rotation(id), new ceres::EigenQuaternionManifold);
-    if (!config.variable_pose_images.count(id)) {
-      problem.SetParameterBlockConstant(buffer.rotation(id));
-      problem.SetParameterBlockConstant(buffer.translation(id));
-    }
-  }
-  FixGauge(config, problem_images, rec, &buffer, &problem);
-
-  // A camera's own block holds what the options hold and every shared parameter (unused when
-  // it is in a group, held when its size formed none); a group block holds what the options
-  // hold and every parameter that is not shared.
-  const auto hold = [&problem](double* block, unsigned held_mask) {
-    std::vector<int> held;
-    for (int i = 0; i < Camera::kNumParams; ++i)
-      if ((held_mask >> i) & 1u) held.push_back(i);
-    if (held.size() == Camera::kNumParams)
-      problem.SetParameterBlockConstant(block);
-    else if (!held.empty())
-      problem.SetManifold(block, new ceres::SubsetManifold(Camera::kNumParams, held));
-  };
+  // A camera holds what the options hold and every shared parameter (unused when it is in a
+  // group, held when its size formed none); a group block holds what the options hold and every
+  // parameter that is not shared.
   const unsigned held_mask = HeldIntrinsicsMask(options.intrinsics);
   const unsigned all = (1u << Camera::kNumParams) - 1;
-  for (const camera_t id : problem_cameras)
-    hold(buffer.camera(id), config.constant_cameras.count(id) ? all : held_mask | shared_mask);
-  for (const auto& size : shared_sizes)
+  const auto held_camera = [&](camera_t id) {
+    return config.constant_cameras.count(id) ? all : held_mask | shared_mask;
+  };
+  const auto hold = [&problem, all](double* block, unsigned held) {
+    if (held == all) return problem.SetParameterBlockConstant(block);
+    if (held != 0)
+      problem.SetManifold(
+          block, new ceres::SubsetManifold(Camera::kNumParams, Bits(held, Camera::kNumParams)));
+  };
+  std::set<camera_t> in_image_blocks;
+  const size_t num_constant_points =
+      std::count_if(problem_points.begin(), problem_points.end(),
+                    [&config](point3D_t id) { return config.constant_points.count(id) > 0; });
+  for (const auto& [id, hold_pose] : PoseHolds(config, problem_images, num_constant_points, rec)) {
+    const camera_t camera_id = rec.image(id).camera_id;
+    if (buffer.HasImageBlock(id)) {
+      SetImageManifold(hold_pose, held_camera(camera_id), buffer.camera(camera_id), &problem);
+      in_image_blocks.insert(camera_id);
+    } else {
+      SetPoseManifold(hold_pose, buffer.pose(id), &problem);
+    }
+  }
+  for (const auto& [id, offset] : buffer.cameras())
+    if (!in_image_blocks.count(id)) hold(buffer.camera(id), held_camera(id));
+  for (const auto& [size, offset] : buffer.groups())
     if (double* group = buffer.group(size); problem.HasParameterBlock(group))
       hold(group, held_mask | (all & ~shared_mask));
   for (const point3D_t id : problem_points)
@@ -393,12 +484,11 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   // orders blocks by address, which the buffer makes the id order.
   auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
   for (const point3D_t id : problem_points) ordering->AddElementToGroup(buffer.point(id), 0);
-  for (const image_t id : problem_images) {
-    ordering->AddElementToGroup(buffer.rotation(id), 1);
-    ordering->AddElementToGroup(buffer.translation(id), 1);
-  }
-  for (const camera_t id : problem_cameras) ordering->AddElementToGroup(buffer.camera(id), 1);
-  for (const auto& size : shared_sizes)
+  for (const image_t id : problem_images)
+    if (!buffer.HasImageBlock(id)) ordering->AddElementToGroup(buffer.pose(id), 1);
+  for (const auto& [id, offset] : buffer.cameras())
+    ordering->AddElementToGroup(buffer.camera(id), 1);
+  for (const auto& [size, offset] : buffer.groups())
     if (double* group = buffer.group(size); problem.HasParameterBlock(group))
       ordering->AddElementToGroup(group, 1);
   solver_options.linear_solver_ordering = ordering;

@@ -6,6 +6,10 @@
 // Parameter sharing: images pointing at the same camera_id share one 7-parameter block, so
 // "one camera for all images" and "one camera per image" (varying intrinsics) are the same code;
 // IntrinsicsOptions::shared_per_size adds one block per image size for the parameters it names.
+// A camera that only one image of the problem uses goes into one block with that image's pose
+// (ReprojectionBlocks::kImage): Ceres' Schur elimination works block pair by block pair, and one
+// block per image instead of three (camera, rotation, translation) made the final global
+// adjustment of a 100-image sequence 2.1x faster (8.5 -> 4.0 s) with the same result.
 //
 // Determinism: the parameters are copied into one contiguous buffer in id order before solving
 // and back afterwards. Ceres orders the blocks of each elimination group by address, so with the
@@ -15,7 +19,8 @@
 // that are identical bit for bit.
 //
 // Gauge (the 7-dof similarity ambiguity of a projective-metric reconstruction): when fewer than
-// two images of the problem have a constant pose, RunBundleAdjustment fixes it itself:
+// two images of the problem have a constant pose and fewer than three points are constant,
+// RunBundleAdjustment fixes it itself:
 //  - no constant pose: the pose of the lowest-id variable image is held (6 dof);
 //  - then, with one constant pose C0 (given or just chosen), the scale is held by fixing the
 //    translation coordinate k of the next variable image that changes most under a scaling
@@ -83,7 +88,8 @@ struct BundleAdjustmentOptions {
 
 // What enters the problem. A 3D point enters when a variable-pose image observes it; then every
 // observation of it by an image of the config (variable or constant pose) is a residual. Points
-// with fewer than two residuals are left out (a single ray does not fix a point).
+// with fewer than two residuals are left out (a single ray does not fix a point). A constant
+// point enters only through its observations by variable-pose images (each one fixes a pose).
 struct BundleAdjustmentConfig {
   std::set<image_t> variable_pose_images;
   std::set<image_t> constant_pose_images;
@@ -95,8 +101,13 @@ struct BundleAdjustmentConfig {
   // The given images' poses and intrinsics free, every point they observe free, and every other
   // registered image that observes those points included with constant pose and constant
   // camera. A camera shared with a variable image stays free (sharing wins over holding).
+  // With max_track_length > 0, a point seen by more images than that is held constant instead
+  // and brings in no other image (as COLMAP's local adjustment leaves long tracks out): it is
+  // already well determined, and on a long sequence whose points stay in view for many images
+  // its whole track would make every local adjustment grow with the model (bench/scale).
   static BundleAdjustmentConfig Local(const Reconstruction& reconstruction,
-                                      const std::vector<image_t>& variable_images);
+                                      const std::vector<image_t>& variable_images,
+                                      size_t max_track_length = 0);
 };
 
 struct BundleAdjustmentSummary {

@@ -22,6 +22,12 @@ void CorrespondenceGraph::AddImagePair(image_t id1, image_t id2, const FeatureMa
     ++added;
   }
   pair_counts_[{std::min(id1, id2), std::max(id1, id2)}] += added;
+  if (added == 0) return;
+  for (const auto& [from, to] : {std::pair{id1, id2}, std::pair{id2, id1}}) {
+    auto& neighbors = images_.at(from).neighbors;
+    const auto it = std::lower_bound(neighbors.begin(), neighbors.end(), to);
+    if (it == neighbors.end() || *it != to) neighbors.insert(it, to);
+  }
 }
 
 std::vector<image_t> CorrespondenceGraph::ImageIds() const {

@@ -28,11 +28,14 @@ class CorrespondenceGraph {
                                                        point2D_t point2D_idx) const {
     return images_.at(image_id).correspondences.at(point2D_idx);
   }
-  size_t NumPoints2D(image_t image_id) const {
-    return images_.at(image_id).correspondences.size();
-  }
+  size_t NumPoints2D(image_t image_id) const { return images_.at(image_id).correspondences.size(); }
   // Number of 2D points of the image with at least one correspondence.
   size_t NumObservedPoints2D(image_t image_id) const;
+
+  // The images that share verified matches with the image, in id order.
+  const std::vector<image_t>& NeighborsOf(image_t image_id) const {
+    return images_.at(image_id).neighbors;
+  }
 
   // The verified matches of one pair, for the order asked (empty if none).
   FeatureMatches MatchesBetween(image_t image_id1, image_t image_id2) const;
@@ -42,6 +45,7 @@ class CorrespondenceGraph {
  private:
   struct ImageEntry {
     std::vector<std::vector<Correspondence>> correspondences;  // per 2D point
+    std::vector<image_t> neighbors;                            // sorted
   };
   std::map<image_t, ImageEntry> images_;
   std::map<std::pair<image_t, image_t>, size_t> pair_counts_;

@@ -146,6 +146,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   // 2. Register the other images one by one; failed ones are retried after later successes.
   size_t last_global_size = 2;
   bool first_global_done = false;
+  double progress_rms = -1.0;
   while (true) {
     bool registered_any = false;
     for (const image_t image_id : NextImageCandidates(*rec)) {
@@ -172,7 +173,14 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
       } else {
         LocalBundleAdjustment(rec, &summary);
       }
-      if (options_.progress) options_.progress(n, summary.num_images, rec->RmsReprojectionError());
+      if (options_.progress) {
+        // The model's RMS costs a pass over every observation: refreshed 20 times a run, so
+        // that reporting stays linear in the number of images.
+        const size_t every = std::max<size_t>(1, summary.num_images / 20);
+        if (n % every == 0 || n == summary.num_images || progress_rms < 0)
+          progress_rms = rec->RmsReprojectionError();
+        options_.progress(n, summary.num_images, progress_rms);
+      }
       registered_any = true;
       break;  // candidates change with every registration
     }
@@ -261,6 +269,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   ba.num_threads = options_.num_threads;
+  ba.solver = options_.ba_solver;
   RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
   rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
   if (rec->points3D().size() < static_cast<size_t>(options_.min_initial_points)) return false;
@@ -277,7 +286,13 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
   std::vector<std::pair<size_t, image_t>> scored;
   image_t last_registered = registration_order_.empty() ? 0 : registration_order_.back();
   for (const auto& [image_id, image] : rec.images()) {
-    if (image.registered) continue;
+    if (image.registered || !graph_.ExistsImage(image_id)) continue;
+    // Only images that match a registered one can see reconstructed points: on a sequence
+    // that is the few next to the registered ones, and the scan below stays bounded.
+    const auto& neighbors = graph_.NeighborsOf(image_id);
+    if (std::none_of(neighbors.begin(), neighbors.end(),
+                     [&rec](image_t id) { return rec.image(id).registered; }))
+      continue;
     size_t visible = 0;
     for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
       for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
@@ -457,7 +472,6 @@ size_t IncrementalMapper::TriangulateImage(Reconstruction* rec, image_t image_id
     if (rec->image(image_id).points2D[idx].HasPoint3D()) continue;
     const auto& corrs = graph_.CorrespondencesOf(image_id, idx);
     if (corrs.empty()) continue;
-    const Eigen::Vector2d& xy = rec->image(image_id).points2D[idx].xy;
 
     // Continue an existing track when the point reprojects well here.
     point3D_t best_id = kInvalidPoint3DId;
@@ -525,9 +539,11 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
   ba.num_threads = options_.num_threads;
+  ba.solver = options_.ba_solver;
   ba.max_iterations = 25;  // as COLMAP's local BA: the global ones finish the job
   ba.function_tolerance = options_.local_ba_function_tolerance;
-  const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Local(*rec, window), rec);
+  const auto ba_summary = RunBundleAdjustment(
+      ba, BundleAdjustmentConfig::Local(*rec, window, options_.local_ba_max_track_length), rec);
   debug("local BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
         ba_summary.initial_rms_px, ba_summary.final_rms_px);
@@ -543,8 +559,11 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   ba.num_threads = options_.num_threads;
+  ba.solver = options_.ba_solver;
   ba.max_iterations = 50;
   ba.function_tolerance = options_.global_ba_function_tolerance;
+  // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
+  ba.verbose = spdlog::should_log(spdlog::level::trace);
   const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
   debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,

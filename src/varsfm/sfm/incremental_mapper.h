@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "varsfm/ba/bundle_adjuster.h"
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/sfm/correspondence_graph.h"
 #include "varsfm/sfm/initial_pair.h"
@@ -33,6 +34,10 @@ struct IncrementalMapperOptions {
   double init_min_median_angle_deg = 3.0;
 
   int local_ba_images = 3;  // m0 of the paper
+  // Beyond the paper: in a local adjustment, points seen by more images than this are held and
+  // enter only through the window's observations (0: every point free with its whole track). As
+  // COLMAP (15); it keeps the local adjustments' cost bounded on long sequences (bench/scale).
+  int local_ba_max_track_length = 15;
   // Local adjustments stop at this relative cost decrease (Ceres' function tolerance): they
   // only need to keep the new images consistent, the global ones reach the minimum.
   double local_ba_function_tolerance = 1e-3;
@@ -71,6 +76,8 @@ struct IncrementalMapperOptions {
   // next in sequence order for ordered input (video, numbered photos).
   bool sequential_order = false;
 
+  // The bundle adjustments' linear solver (kAuto: chosen by the number of images).
+  BundleAdjustmentOptions::Solver ba_solver = BundleAdjustmentOptions::Solver::kAuto;
   // Bundle adjustment threads; 1 (default) is bit-for-bit reproducible, 0 uses all cores
   // (faster, equal only to rounding; see ba/bundle_adjuster.h).
   int num_threads = 1;

@@ -52,26 +52,63 @@ cv::Mat MakeTexture(int size, Rng& rng) {
   return texture;
 }
 
-std::vector<TexturedQuad> MakeScene(Rng& rng) {
+// The visible faces of a box [c - half, c + half] standing on the floor (y down, cameras in -z).
+void AddBox(const Eigen::Vector3d& c, const Eigen::Vector3d& half, int texture_size, Rng& rng,
+            std::vector<TexturedQuad>* quads) {
+  const Eigen::Vector3d lo = c - half, hi = c + half;
+  const auto add = [&](Eigen::Vector3d o, Eigen::Vector3d u, Eigen::Vector3d v) {
+    quads->push_back({o, u, v, MakeTexture(texture_size, rng)});
+  };
+  add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, hi.y() - lo.y(), 0});  // front
+  add({lo.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // left
+  add({hi.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // right
+  add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, 0, hi.z() - lo.z()});  // top
+}
+
+std::vector<TexturedQuad> MakeRoomScene(Rng& rng) {
   std::vector<TexturedQuad> quads;
   const auto add = [&](Eigen::Vector3d o, Eigen::Vector3d u, Eigen::Vector3d v) {
     quads.push_back({o, u, v, MakeTexture(512, rng)});
   };
   // World: y points down, the cameras look along +z. Room corner.
-  add({-2.5, -1.8, 2.0}, {7.0, 0, 0}, {0, 3.0, 0});    // back wall (z = 2)
-  add({-2.5, 1.2, -2.0}, {7.0, 0, 0}, {0, 0, 4.0});    // floor (y = 1.2)
-  add({-2.5, -1.8, -2.0}, {0, 0, 4.0}, {0, 3.0, 0});   // left wall (x = -2.5)
-  // Two boxes standing on the floor: their visible faces.
-  const auto box = [&](Eigen::Vector3d c, Eigen::Vector3d half) {
-    const Eigen::Vector3d lo = c - half, hi = c + half;
-    add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, hi.y() - lo.y(), 0});  // front
-    add({lo.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // left
-    add({hi.x(), lo.y(), lo.z()}, {0, 0, hi.z() - lo.z()}, {0, hi.y() - lo.y(), 0});  // right
-    add({lo.x(), lo.y(), lo.z()}, {hi.x() - lo.x(), 0, 0}, {0, 0, hi.z() - lo.z()});  // top
-  };
-  box({-0.6, 0.7, 0.6}, {0.5, 0.5, 0.5});
-  box({0.9, 0.9, 0.1}, {0.35, 0.3, 0.35});
+  add({-2.5, -1.8, 2.0}, {7.0, 0, 0}, {0, 3.0, 0});   // back wall (z = 2)
+  add({-2.5, 1.2, -2.0}, {7.0, 0, 0}, {0, 0, 4.0});   // floor (y = 1.2)
+  add({-2.5, -1.8, -2.0}, {0, 0, 4.0}, {0, 3.0, 0});  // left wall (x = -2.5)
+  // Two boxes standing on the floor.
+  AddBox({-0.6, 0.7, 0.6}, {0.5, 0.5, 0.5}, 512, rng, &quads);
+  AddBox({0.9, 0.9, 0.1}, {0.35, 0.3, 0.35}, 512, rng, &quads);
   return quads;
+}
+
+// A facade (z = 4) and the ground in front of it from x = x0 to x1, in 3 m segments with a
+// box of random size in front of the facade in each; 256-pixel textures (the street is seen
+// from farther than the room, and may be long).
+std::vector<TexturedQuad> MakeStreetScene(double x0, double x1, Rng& rng) {
+  std::vector<TexturedQuad> quads;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  constexpr double kSegment = 3.0;
+  for (double x = x0; x < x1; x += kSegment) {
+    quads.push_back({{x, -1.8, 4.0}, {kSegment, 0, 0}, {0, 3.0, 0}, MakeTexture(256, rng)});
+    quads.push_back({{x, 1.2, 0.5}, {kSegment, 0, 0}, {0, 0, 3.5}, MakeTexture(256, rng)});
+    const Eigen::Vector3d half(0.3 + 0.4 * unit(rng), 0.2 + 0.4 * unit(rng), 0.3 + 0.3 * unit(rng));
+    AddBox({x + kSegment * (0.25 + 0.5 * unit(rng)), 1.2 - half.y(), 3.0 - half.z()}, half, 256,
+           rng, &quads);
+  }
+  return quads;
+}
+
+// The quads a camera at `centre` may see: all of them for the room; for the street those
+// within 12 m along it (the visible stretch is a few metres wide).
+std::vector<TexturedQuad> QuadsNear(const std::vector<TexturedQuad>& quads, CameraPath path,
+                                    const Eigen::Vector3d& centre) {
+  if (path == CameraPath::kOrbit) return quads;
+  std::vector<TexturedQuad> near;
+  for (const TexturedQuad& q : quads) {
+    const double a = q.origin.x(), b = (q.origin + q.u + q.v).x();
+    if (std::max(a, b) > centre.x() - 12.0 && std::min(a, b) < centre.x() + 12.0)
+      near.push_back(q);  // shares the texture (cv::Mat is reference-counted)
+  }
+  return near;
 }
 
 cv::Vec3f Bilinear(const cv::Mat& texture, double x, double y) {
@@ -109,17 +146,35 @@ cv::Vec3f Trace(const std::vector<TexturedQuad>& quads, const Eigen::Vector3d& o
 RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
   if (o.num_images < 2 || o.width < 64 || o.height < 64) Fail("demo scene: bad render options");
   Rng rng(o.seed);
-  const std::vector<TexturedQuad> quads = MakeScene(rng);
+  const bool street = o.path == CameraPath::kStreet;
+  const double street_length = o.street_step * (o.num_images - 1);
+  const std::vector<TexturedQuad> all_quads =
+      street ? MakeStreetScene(-8.0, street_length + 8.0, rng) : MakeRoomScene(rng);
   RenderedScene scene;
   std::uniform_real_distribution<double> jitter(-0.15, 0.15);
   for (int i = 0; i < o.num_images; ++i) {
     const double t = static_cast<double>(i) / (o.num_images - 1);
-    const double a = (t - 0.5) * o.arc_degrees * std::numbers::pi / 180.0;
-    const double radius = 4.0;
-    const Eigen::Vector3d target(0.1 + jitter(rng), 0.2 + jitter(rng), 0.8 + jitter(rng));
-    const Eigen::Vector3d centre(radius * std::sin(a), -0.6 - 0.3 * std::sin(2 * a),
-                                 0.8 - radius * std::cos(a));
-    Camera camera = Camera::FromFocal(o.width, o.height, o.focal_start * (1 + t * (o.zoom - 1)));
+    Eigen::Vector3d centre, target;
+    double zoom_fraction = t;
+    if (street) {
+      // Walking along the facade about 4 m away, looking at it slightly ahead; the path
+      // meanders in height and distance (camera centres on a line would leave the rotation
+      // about it out of the evaluation's similarity alignment); the zoom goes in and out with a
+      // period of 100 images.
+      const double x = i * o.street_step;
+      centre = Eigen::Vector3d(x, -0.4 + 0.3 * std::sin(0.05 * i), 0.6 * std::sin(0.031 * i));
+      target = Eigen::Vector3d(x + 0.8 + jitter(rng), 0.3 + jitter(rng), 4.0);
+      zoom_fraction = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / 100.0);
+    } else {
+      const double a = (t - 0.5) * o.arc_degrees * std::numbers::pi / 180.0;
+      const double radius = 4.0;
+      target = Eigen::Vector3d(0.1 + jitter(rng), 0.2 + jitter(rng), 0.8 + jitter(rng));
+      centre = Eigen::Vector3d(radius * std::sin(a), -0.6 - 0.3 * std::sin(2 * a),
+                               0.8 - radius * std::cos(a));
+    }
+    const std::vector<TexturedQuad> quads = QuadsNear(all_quads, o.path, centre);
+    Camera camera =
+        Camera::FromFocal(o.width, o.height, o.focal_start * (1 + zoom_fraction * (o.zoom - 1)));
     camera.camera_id = static_cast<camera_t>(i + 1);
     camera.params[Camera::kK1] = o.k1;
     const Rigid3d pose = LookAt(centre, target);
@@ -139,9 +194,9 @@ RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
               sum += Trace(quads, centre, world_from_cam * n.homogeneous());
             }
           sum *= 1.0f / (ss * ss);
-          image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(sum[0]),
-                                                cv::saturate_cast<uchar>(sum[1]),
-                                                cv::saturate_cast<uchar>(sum[2]));
+          image.at<cv::Vec3b>(y, x) =
+              cv::Vec3b(cv::saturate_cast<uchar>(sum[0]), cv::saturate_cast<uchar>(sum[1]),
+                        cv::saturate_cast<uchar>(sum[2]));
         }
       }
     });
@@ -169,7 +224,8 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
     std::ofstream out(gt_dir / (name + ".camera"));
     out.precision(17);
     for (int r = 0; r < 3; ++r) out << K(r, 0) << " " << K(r, 1) << " " << K(r, 2) << "\n";
-    if (c.HasDistortion()) Fail("the Strecha layout holds no lens distortion; render with k1 = k2 = 0");
+    if (c.HasDistortion())
+      Fail("the Strecha layout holds no lens distortion; render with k1 = k2 = 0");
     out << "0 0 0\n";
     for (int r = 0; r < 3; ++r) out << R(r, 0) << " " << R(r, 1) << " " << R(r, 2) << "\n";
     out << C.x() << " " << C.y() << " " << C.z() << "\n";

@@ -2,8 +2,9 @@
 // A synthetic textured scene rendered as photographs, with exact ground truth: the built-in
 // demo input. A room corner (back wall, floor, side wall) and two boxes, every face covered by
 // a procedural texture with blobs at several scales (what SIFT responds to), filmed along an
-// orbit by a camera that zooms (focal length x1.0 -> x1.6). Radial distortion can be added, but
-// the Strecha ground-truth layout cannot record it, so the demo renders without.
+// orbit by a camera that zooms (focal length x1.0 -> x1.6); or a long street (CameraPath). Radial
+// distortion can be added, but the Strecha ground-truth layout cannot record it, so the demo
+// renders without.
 #include <filesystem>
 #include <vector>
 
@@ -15,7 +16,16 @@
 
 namespace varsfm {
 
+// How the camera moves. kOrbit: around the room corner, over arc_degrees for the whole
+// sequence (the demo). kStreet: along a facade that goes on as far as the sequence needs, a
+// fixed step per image, the zoom going in and out every 100 images: each point stays in view
+// for a bounded number of images however long the sequence, as in a video walked or flown
+// along a street (bench/scale's long sequences).
+enum class CameraPath { kOrbit, kStreet };
+
 struct RenderedSceneOptions {
+  CameraPath path = CameraPath::kOrbit;
+  double street_step = 0.1;  // kStreet: metres per image
   int num_images = 12;
   int width = 800;
   int height = 600;
