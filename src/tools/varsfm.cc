@@ -41,6 +41,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_option("--global-ba-growth", m.global_ba_growth,
                   "further global BA when the model grew by this factor (0: never)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--global-ba-tolerance", m.global_ba_function_tolerance,
+                  "global BAs stop when an iteration lowers the cost by less than this fraction")
+      ->capture_default_str()->check(CLI::PositiveNumber);
   cmd->add_flag("!--no-final-global-ba", m.final_global_ba,
                 "skip the global BA at the end (with --global-ba-images above the image count "
                 "and --global-ba-growth 0: local BA only)");

@@ -96,28 +96,44 @@ TEST(AnalyticReprojectionCost, SharedIntrinsicsMatchAutomaticDifferentiation) {
   }
 }
 
-// The pose and image blocks hold the same parameters as the separate ones, concatenated: their
-// residuals and Jacobian columns must be the separate layout's, which the tests above check.
-TEST(AnalyticReprojectionCost, PoseAndImageBlocksConcatenateTheSeparateJacobians) {
+// The pose and image blocks hold [quaternion, centre C] (p = R (X - C)): their residuals and
+// Jacobians must be the separate layout's at the point X - C with a zero translation (checked
+// against automatic differentiation above), with d/dC = -d/dX; and the residual the separate
+// layout gives with t = -R C.
+TEST(AnalyticReprojectionCost, PoseAndImageBlocksHoldTheCentre) {
   std::mt19937 rng(5);
   for (const std::optional<unsigned> mask : {std::optional<unsigned>{}, std::optional{0x18u}}) {
     for (int trial = 0; trial < 20; ++trial) {
       const Inputs in = RandomInputs(rng);
-      // Separate blocks: camera [group] rotation translation point.
+      const Eigen::Quaterniond q(in.rotation[3], in.rotation[0], in.rotation[1], in.rotation[2]);
+      const Eigen::Vector3d C =
+          -(q.conjugate() * Eigen::Map<const Eigen::Vector3d>(in.translation));
+      const double zero[3] = {0.0, 0.0, 0.0};
+      const double relative[3] = {in.point[0] - C.x(), in.point[1] - C.y(), in.point[2] - C.z()};
+
+      // Reference: separate blocks camera [group] rotation translation point at (0, X - C).
       const AnalyticReprojectionCost separate(in.observed,
                                               ReprojectionBlocks::kCameraRotationTranslation, mask);
       std::vector<const double*> blocks = {in.camera};
       if (mask) blocks.push_back(in.group);
-      blocks.insert(blocks.end(), {in.rotation, in.translation, in.point});
-      double r_sep[2], J_camera[14], J_group[14], J_rotation[8], J_translation[6], J_point[6];
+      blocks.insert(blocks.end(), {in.rotation, zero, relative});
+      double r_ref[2], J_camera[14], J_group[14], J_rotation[8], J_translation[6], J_point[6];
       std::vector<double*> jac = {J_camera};
       if (mask) jac.push_back(J_group);
       jac.insert(jac.end(), {J_rotation, J_translation, J_point});
-      ASSERT_TRUE(separate.Evaluate(blocks.data(), r_sep, jac.data()));
+      ASSERT_TRUE(separate.Evaluate(blocks.data(), r_ref, jac.data()));
+      // The same residual as with the translation.
+      std::vector<const double*> with_t = {in.camera};
+      if (mask) with_t.push_back(in.group);
+      with_t.insert(with_t.end(), {in.rotation, in.translation, in.point});
+      double r_t[2];
+      ASSERT_TRUE(separate.Evaluate(with_t.data(), r_t, nullptr));
+      EXPECT_NEAR(r_ref[0], r_t[0], 1e-9);
+      EXPECT_NEAR(r_ref[1], r_t[1], 1e-9);
 
       double pose[7], image[14];
       std::copy_n(in.rotation, 4, pose);
-      std::copy_n(in.translation, 3, pose + 4);
+      std::copy_n(C.data(), 3, pose + 4);
       std::copy_n(in.camera, 7, image);
       std::copy_n(pose, 7, image + 7);
       for (const ReprojectionBlocks layout :
@@ -135,9 +151,9 @@ TEST(AnalyticReprojectionCost, PoseAndImageBlocksConcatenateTheSeparateJacobians
         j.push_back(J_p);
         ASSERT_EQ(cost.parameter_block_sizes().size(), b.size());
         ASSERT_TRUE(cost.Evaluate(b.data(), r, j.data()));
-        EXPECT_EQ(r[0], r_sep[0]);
-        EXPECT_EQ(r[1], r_sep[1]);
-        // Row `row`, parameter `k` of the pose part (rotation 0-3, translation 4-6).
+        EXPECT_EQ(r[0], r_ref[0]);
+        EXPECT_EQ(r[1], r_ref[1]);
+        // Row `row`, parameter `k` of the pose part (rotation 0-3, centre 4-6).
         const auto pose_jacobian = [&](int row, int k) {
           return image_block ? J_own[row * 14 + 7 + k] : J_pose[row * 7 + k];
         };
@@ -147,8 +163,7 @@ TEST(AnalyticReprojectionCost, PoseAndImageBlocksConcatenateTheSeparateJacobians
           if (mask)
             for (int k = 0; k < 7; ++k) EXPECT_EQ(J_g[row * 7 + k], J_group[row * 7 + k]);
           for (int k = 0; k < 4; ++k) EXPECT_EQ(pose_jacobian(row, k), J_rotation[row * 4 + k]);
-          for (int k = 0; k < 3; ++k)
-            EXPECT_EQ(pose_jacobian(row, 4 + k), J_translation[row * 3 + k]);
+          for (int k = 0; k < 3; ++k) EXPECT_EQ(pose_jacobian(row, 4 + k), -J_point[row * 3 + k]);
           for (int k = 0; k < 3; ++k) EXPECT_EQ(J_p[row * 3 + k], J_point[row * 3 + k]);
         }
       }

@@ -80,6 +80,28 @@ bool EvaluateReprojection(const double* camera, const double* rotation, const do
   return true;
 }
 
+// The pose as [q, t] (p = R X + t) or, with `centre`, [q, C] (p = R (X - C), so d/dC = -d/dX).
+bool EvaluateWithPose(const double* camera, const double* rotation, const double* position,
+                      bool centre, const double* point, const Eigen::Vector2d& observed,
+                      double* residuals, JacobianOut d_camera, JacobianOut d_rotation,
+                      JacobianOut d_position, JacobianOut d_point) {
+  if (!centre)
+    return EvaluateReprojection(camera, rotation, position, point, observed, residuals, d_camera,
+                                d_rotation, d_position, d_point);
+  const double relative[3] = {point[0] - position[0], point[1] - position[1],
+                              point[2] - position[2]};
+  static constexpr double kZero[3] = {0.0, 0.0, 0.0};
+  Eigen::Matrix<double, 2, 3, Eigen::RowMajor> d_relative;
+  const bool want_relative = d_point || d_position;
+  if (!EvaluateReprojection(camera, rotation, kZero, relative, observed, residuals, d_camera,
+                            d_rotation, JacobianOut{},
+                            JacobianOut{want_relative ? d_relative.data() : nullptr, 3}))
+    return false;
+  if (d_point) d_point.Map<3>() = d_relative;
+  if (d_position) d_position.Map<3>() = -d_relative;
+  return true;
+}
+
 }  // namespace
 
 AnalyticReprojectionCost::AnalyticReprojectionCost(const Eigen::Vector2d& observed,
@@ -141,20 +163,20 @@ bool AnalyticReprojectionCost::Evaluate(double const* const* parameters, double*
     d_translation = JacobianOut{d_rotation.data + 4, d_rotation.stride};
   const double* point = parameters[b];
   const JacobianOut d_point = J(b, 3);
+  const bool centre = blocks_ != ReprojectionBlocks::kCameraRotationTranslation;
 
   if (!shared_mask_)
-    return EvaluateReprojection(own, rotation, translation, point, observed_, residuals, d_own,
-                                d_rotation, d_translation, d_point);
+    return EvaluateWithPose(own, rotation, translation, centre, point, observed_, residuals, d_own,
+                            d_rotation, d_translation, d_point);
 
   const unsigned mask = *shared_mask_;
   double camera[Camera::kNumParams];
   for (int i = 0; i < Camera::kNumParams; ++i) camera[i] = (mask >> i) & 1u ? group[i] : own[i];
   Eigen::Matrix<double, 2, Camera::kNumParams, Eigen::RowMajor> d_camera;
   const bool want_camera = d_own || d_group;
-  if (!EvaluateReprojection(
-          camera, rotation, translation, point, observed_, residuals,
-          JacobianOut{want_camera ? d_camera.data() : nullptr, Camera::kNumParams}, d_rotation,
-          d_translation, d_point))
+  if (!EvaluateWithPose(camera, rotation, translation, centre, point, observed_, residuals,
+                        JacobianOut{want_camera ? d_camera.data() : nullptr, Camera::kNumParams},
+                        d_rotation, d_translation, d_point))
     return false;
   // Each column of the camera Jacobian goes to the block the parameter comes from; the other
   // block's column is zero.

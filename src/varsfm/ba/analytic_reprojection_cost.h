@@ -35,12 +35,17 @@ namespace varsfm {
 // the work grows with (t x blocks per image)^2: on a 100-image sequence (tracks of ~17 images)
 // the final global adjustment spent 7.7 of 8.5 s there with three blocks per image. One block
 // per image makes that count ~9x smaller for the same arithmetic.
+//
+// The pose blocks hold the camera centre C instead of the translation t = -R C (p = R (X - C)):
+// the bending of a long sequence in a global adjustment (images far from the world origin turning
+// about a distant pivot) is then much less non-linear than with t, whose change under a rotation
+// grows with the distance to the origin.
 enum class ReprojectionBlocks {
   // camera [f, e, s, u0, v0, k1, k2] (7), rotation quaternion [x, y, z, w] (4), translation (3)
   kCameraRotationTranslation,
-  // camera (7), pose [quaternion (4), translation (3)] (7): a camera several images share
+  // camera (7), pose [quaternion (4), centre (3)] (7): a camera several images share
   kCameraPose,
-  // image [camera (7), quaternion (4), translation (3)] (14): a camera of its own
+  // image [camera (7), quaternion (4), centre (3)] (14): a camera of its own
   kImage,
 };
 

@@ -130,9 +130,9 @@ std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& confi
 // The problem's parameters, copied into one contiguous buffer laid out in id order so that
 // Ceres' address-ordered elimination groups come out the same in every run (see
 // bundle_adjuster.h). An image whose camera no other image of the problem uses gets one block,
-// [camera (7), quaternion (4), translation (3)] (ReprojectionBlocks::kImage: the Schur
+// [camera (7), quaternion (4), centre (3)] (ReprojectionBlocks::kImage: the Schur
 // elimination's cost grows with the square of the blocks per image); otherwise the camera and
-// the pose [quaternion, translation] are two blocks. Then the shared per-size blocks, then the
+// the pose [quaternion, centre] are two blocks. Then the shared per-size blocks, then the
 // points.
 class ParameterBuffer {
  public:
@@ -157,7 +157,8 @@ class ParameterBuffer {
       const Rigid3d& pose = rec.image(id).cam_from_world;
       const Eigen::Vector4d q = pose.rotation.normalized().coeffs();  // x, y, z, w
       data_.insert(data_.end(), q.data(), q.data() + 4);
-      data_.insert(data_.end(), pose.translation.data(), pose.translation.data() + 3);
+      const Eigen::Vector3d centre = pose.Center();
+      data_.insert(data_.end(), centre.data(), centre.data() + 3);
     };
     for (const image_t id : images) {
       const camera_t camera_id = rec.image(id).camera_id;
@@ -189,12 +190,13 @@ class ParameterBuffer {
       const Eigen::Vector3d& x = rec.point3D(id).xyz;
       data_.insert(data_.end(), x.data(), x.data() + 3);
     }
+    initial_ = data_;
   }
 
   // Whether the image's camera and pose are one block (starting at camera(its camera)).
   bool HasImageBlock(image_t id) const { return image_block_.count(id) > 0; }
   double* camera(camera_t id) { return &data_[camera_.at(id)]; }
-  double* pose(image_t id) { return &data_[pose_.at(id)]; }  // quaternion, translation
+  double* pose(image_t id) { return &data_[pose_.at(id)]; }  // quaternion, centre
   double* point(point3D_t id) { return &data_[point_.at(id)]; }
   double* group(const SizeKey& size) { return &data_[group_.at(size)]; }
   // The shared block the camera takes parameters from; null when it has none.
@@ -217,11 +219,15 @@ class ParameterBuffer {
           if ((shared_mask_ >> i) & 1u) c.params[i] = shared[i];
     }
     for (const auto& [id, offset] : pose_) {
-      if (!config.variable_pose_images.count(id)) continue;
+      // Poses the problem held (the config's, or the gauge's) keep their values bit for bit
+      // rather than pass through the centre and back.
+      if (!config.variable_pose_images.count(id) ||
+          std::equal(&data_[offset], &data_[offset] + 7, &initial_[offset]))
+        continue;
       Rigid3d& pose = rec->image(id).cam_from_world;
       pose.rotation.coeffs() = Eigen::Map<const Eigen::Vector4d>(&data_[offset]);
       pose.rotation.normalize();
-      pose.translation = Eigen::Map<const Eigen::Vector3d>(&data_[offset + 4]);
+      pose.translation = -(pose.rotation * Eigen::Map<const Eigen::Vector3d>(&data_[offset + 4]));
     }
     for (const auto& [id, offset] : point_)
       if (!config.constant_points.count(id))
@@ -230,6 +236,7 @@ class ParameterBuffer {
 
  private:
   std::vector<double> data_;
+  std::vector<double> initial_;  // data_ before solving
   std::set<image_t> image_block_;
   std::map<camera_t, size_t> camera_;
   std::map<SizeKey, size_t> group_;
@@ -267,7 +274,7 @@ std::set<camera_t> SharedGroupMembers(const IntrinsicsOptions& options,
 }
 
 // What of an image's pose the problem holds: nothing, all of it, or (kScale) one coordinate of
-// the translation, the one along which the image moved most from the gauge image.
+// the centre, the one along which the image lies farthest from the gauge image.
 struct PoseHold {
   enum Kind { kFree, kConstant, kScale } kind = kFree;
   int coordinate = 0;
@@ -292,9 +299,9 @@ std::map<image_t, PoseHold> PoseHolds(const BundleAdjustmentConfig& config,
     holds[constant.front()].kind = PoseHold::kConstant;
   }
   if (variable.empty()) return holds;
-  const Eigen::Vector3d c0 = rec.image(constant.front()).Center();
-  const Rigid3d& pose = rec.image(variable.front()).cam_from_world;
-  const Eigen::Vector3d d = pose.rotation * (pose.Center() - c0);
+  // A scaling about C0 moves C by s (C - C0): holding the largest coordinate of C - C0 holds it.
+  const Eigen::Vector3d d =
+      rec.image(variable.front()).Center() - rec.image(constant.front()).Center();
   d.cwiseAbs().maxCoeff(&holds[variable.front()].coordinate);
   holds[variable.front()].kind = PoseHold::kScale;
   return holds;
@@ -314,7 +321,7 @@ std::unique_ptr<ceres::Manifold> Subset(int size, unsigned held) {
   return std::make_unique<ceres::SubsetManifold>(size, Bits(held, size));
 }
 
-// The manifolds of a pose [quaternion, translation] and an image block [camera, pose] (a unit
+// The manifolds of a pose [quaternion, centre] and an image block [camera, pose] (a unit
 // quaternion has 3 degrees of freedom); the block is constant when nothing in it is free.
 void SetPoseManifold(const PoseHold& hold, double* pose, ceres::Problem* problem) {
   using Pose =

@@ -23,9 +23,9 @@
 // RunBundleAdjustment fixes it itself:
 //  - no constant pose: the pose of the lowest-id variable image is held (6 dof);
 //  - then, with one constant pose C0 (given or just chosen), the scale is held by fixing the
-//    translation coordinate k of the next variable image that changes most under a scaling
-//    about C0 (argmax_k |(R2 (C2 - C0))_k|, which is the largest |t2_k| when image 0 is at the
-//    origin, as COLMAP does). Two or more constant poses fix the gauge on their own.
+//    coordinate k of the next variable image's centre C2 (poses are optimised as rotation and
+//    centre) that changes most under a scaling about C0: argmax_k |(C2 - C0)_k|. Two or more
+//    constant poses fix the gauge on their own.
 #include <set>
 #include <string>
 #include <vector>

@@ -164,10 +164,17 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
       const bool paper_global =
           options_.first_global_ba_images <= 0 ||
           (!first_global_done && n >= static_cast<size_t>(options_.first_global_ba_images));
+      // A growth adjustment is skipped when the final one follows within the same growth (all
+      // images registered before the model grows by the factor again): it would redo nearly
+      // the same problem (e.g. at 192 of 200 images).
+      const bool final_within_growth =
+          options_.final_global_ba && summary.num_images < options_.global_ba_growth * n;
       const bool growth_global = first_global_done && options_.global_ba_growth > 1.0 &&
-                                 n >= options_.global_ba_growth * last_global_size;
+                                 n >= options_.global_ba_growth * last_global_size &&
+                                 !final_within_growth;
       if (paper_global || growth_global) {
-        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
+        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
+                               options_.global_ba_max_iterations);
         first_global_done = true;
         last_global_size = n;
       } else {
@@ -188,7 +195,9 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   }
 
   // 3. Final global adjustment (with re-triangulation and filtering).
-  if (options_.final_global_ba) GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true);
+  if (options_.final_global_ba)
+    GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
+                           options_.final_global_ba_max_iterations);
   rec->UpdatePointErrors();
   summary.num_registered = rec->NumRegisteredImages();
   summary.success = true;
@@ -265,9 +274,12 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
     return false;
   }
 
-  // Two-view bundle adjustment (eq. 34) with the mapper's intrinsics policy.
+  // Two-view bundle adjustment (eq. 34) with the mapper's intrinsics policy; the focal lengths
+  // of a degenerate pair are held (two views do not determine them: left free, they drift along
+  // the valley to wherever the solver's path ends; the next images' adjustments settle them).
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
+  if (calib.degenerate) ba.intrinsics.refine_focal = false;
   ba.num_threads = options_.num_threads;
   ba.solver = options_.ba_solver;
   RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
@@ -554,13 +566,13 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
 }
 
 void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary,
-                                               bool retriangulate) {
+                                               bool retriangulate, int max_iterations) {
   Timer timer;
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   ba.num_threads = options_.num_threads;
   ba.solver = options_.ba_solver;
-  ba.max_iterations = 50;
+  ba.max_iterations = max_iterations;
   ba.function_tolerance = options_.global_ba_function_tolerance;
   // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
   ba.verbose = spdlog::should_log(spdlog::level::trace);

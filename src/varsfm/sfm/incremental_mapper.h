@@ -42,6 +42,12 @@ struct IncrementalMapperOptions {
   // only need to keep the new images consistent, the global ones reach the minimum.
   double local_ba_function_tolerance = 1e-3;
   double global_ba_function_tolerance = 1e-5;
+  // Iteration caps: the global adjustments while the model grows, and the final one. On a
+  // 1000-image street sequence (bench/scale) some global adjustments crawl along a flat valley
+  // (focal length against distance to a facade) at ~1e-4 relative decrease per iteration to
+  // the cap; those during growth are followed by others, so 25 bounds their cost.
+  int global_ba_max_iterations = 25;
+  int final_global_ba_max_iterations = 50;
   int first_global_ba_images = 13;  // M0 of the paper (10..20)
   // Beyond the paper: a further global BA each time the model has grown by this factor since
   // the last one (0 disables: the paper's schedule).
@@ -133,7 +139,8 @@ class IncrementalMapper {
   size_t TriangulateImage(Reconstruction* rec, image_t image_id);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
   void LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary);
-  void GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary, bool retriangulate);
+  void GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary, bool retriangulate,
+                              int max_iterations);
 
   const CorrespondenceGraph& graph_;
   std::vector<std::pair<image_t, image_t>> excluded_initial_pairs_;
