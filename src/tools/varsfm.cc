@@ -44,9 +44,13 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_option("--global-ba-tolerance", m.global_ba_function_tolerance,
                   "global BAs stop when an iteration lowers the cost by less than this fraction")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--degenerate-init-global-ba", m.degenerate_init_global_ba_images,
+                  "after a degenerate initial pair, a global BA when this many images are in "
+                  "(0: none)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_flag("!--no-final-global-ba", m.final_global_ba,
-                "skip the global BA at the end (with --global-ba-images above the image count "
-                "and --global-ba-growth 0: local BA only)");
+                "skip the global BA at the end (with --global-ba-images above the image count, "
+                "--global-ba-growth 0 and --degenerate-init-global-ba 0: local BA only)");
   cmd->add_option("--min-correspondences", m.min_correspondences, "n0: 2D-3D needed (>= 6)")
       ->capture_default_str()->check(CLI::Range(6, 1000000));
   cmd->add_flag("--refine-principal-point", m.refine_principal_point,

@@ -177,7 +177,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
       // the model grows on them (fountain-P11-zoom: the final adjustment then needs 14
       // iterations instead of 50).
       const bool settle_focals =
-          summary.initial_calibration_degenerate &&
+          summary.initial_calibration_degenerate && options_.degenerate_init_global_ba_images > 0 &&
           n == static_cast<size_t>(options_.degenerate_init_global_ba_images);
       if (paper_global || growth_global) {
         GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,

@@ -48,7 +48,7 @@ struct IncrementalMapperOptions {
   // the cap; those during growth are followed by others, so 25 bounds their cost.
   int global_ba_max_iterations = 25;
   // After a degenerate initial pair (focal lengths held in its two-view adjustment), a global
-  // adjustment when this many images are registered.
+  // adjustment when this many images are registered (0: none).
   int degenerate_init_global_ba_images = 4;
   int final_global_ba_max_iterations = 50;
   int first_global_ba_images = 13;  // M0 of the paper (10..20)
