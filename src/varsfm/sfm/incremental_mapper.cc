@@ -174,7 +174,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
                                  !final_within_growth;
       // A degenerate initial pair entered with its focal lengths held (Initialize): one early
       // global adjustment, once the images determine them, settles every focal length before
-      // the model grows on them (fountain-P11-zoom: the final adjustment then needs 14
+      // the model grows on them (fountain-P11-zoom: the final adjustment then needs 8
       // iterations instead of 50).
       const bool settle_focals =
           summary.initial_calibration_degenerate && options_.degenerate_init_global_ba_images > 0 &&
@@ -286,7 +286,7 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
 
   // Two-view bundle adjustment (eq. 34) with the mapper's intrinsics policy; the focal lengths
   // of a degenerate pair are held (two views do not determine them: left free, they drift along
-  // the valley to wherever the solver's path ends; the next images' adjustments settle them).
+  // the valley to wherever the solver's path ends; the global adjustment at 4 images frees them).
   BundleAdjustmentOptions ba;
   ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
   if (calib.degenerate) ba.intrinsics.refine_focal = false;
