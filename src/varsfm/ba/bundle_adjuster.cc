@@ -321,15 +321,23 @@ std::unique_ptr<ceres::Manifold> Subset(int size, unsigned held) {
   return std::make_unique<ceres::SubsetManifold>(size, Bits(held, size));
 }
 
-// The manifolds of a pose [quaternion, centre] and an image block [camera, pose] (a unit
-// quaternion has 3 degrees of freedom); the block is constant when nothing in it is free.
+// The manifolds of a pose's quaternion (3 degrees of freedom) and centre under `hold`; a held
+// pose gets parts with nothing free (used inside an image block whose camera varies).
+std::pair<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>> PoseManifolds(
+    const PoseHold& hold) {
+  if (hold.kind == PoseHold::kConstant) return {Subset(4, 0xfu), Subset(3, 0x7u)};
+  return {std::make_unique<ceres::EigenQuaternionManifold>(),
+          Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u)};
+}
+
+// The manifold of a pose block [quaternion, centre] or an image block [camera, quaternion,
+// centre] (held_camera: the camera parameters it holds); constant when nothing in it is free.
 void SetPoseManifold(const PoseHold& hold, double* pose, ceres::Problem* problem) {
   using Pose =
       ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>>;
   if (hold.kind == PoseHold::kConstant) return problem->SetParameterBlockConstant(pose);
-  problem->SetManifold(
-      pose, new Pose(std::make_unique<ceres::EigenQuaternionManifold>(),
-                     Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u)));
+  auto [rotation, centre] = PoseManifolds(hold);
+  problem->SetManifold(pose, new Pose(std::move(rotation), std::move(centre)));
 }
 
 void SetImageManifold(const PoseHold& hold, unsigned held_camera, double* block,
@@ -340,16 +348,9 @@ void SetImageManifold(const PoseHold& hold, unsigned held_camera, double* block,
   const unsigned all_camera = (1u << Camera::kNumParams) - 1;
   if (hold.kind == PoseHold::kConstant && held_camera == all_camera)
     return problem->SetParameterBlockConstant(block);
-  std::unique_ptr<ceres::Manifold> rotation, translation;
-  if (hold.kind == PoseHold::kConstant) {
-    rotation = Subset(4, 0xfu);
-    translation = Subset(3, 0x7u);
-  } else {
-    rotation = std::make_unique<ceres::EigenQuaternionManifold>();
-    translation = Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u);
-  }
+  auto [rotation, centre] = PoseManifolds(hold);
   problem->SetManifold(block, new Image(Subset(Camera::kNumParams, held_camera),
-                                        std::move(rotation), std::move(translation)));
+                                        std::move(rotation), std::move(centre)));
 }
 
 }  // namespace
