@@ -28,6 +28,8 @@ function(varsfm_test module)
   endif()
   add_executable(${module}_test ${sources})
   target_link_libraries(${module}_test PRIVATE ${ARG_LIBS} varsfm_test_support GTest::gtest_main)
+  # Reading TIFF/BMP/... and video loads the OpenCV I/O plug-in at run time.
+  add_dependencies(${module}_test varsfm_opencv_io)
   gtest_discover_tests(${module}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
                        DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
 endfunction()

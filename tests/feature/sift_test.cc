@@ -7,10 +7,10 @@
 #include <set>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "support/test_data.h"
+#include "varsfm/image/image_file.h"
 
 namespace varsfm {
 namespace {
@@ -83,7 +83,7 @@ TEST(Sift, FeaturelessImageGivesNoFeatures) {
 
 TEST(Sift, RealPhotographFeatures) {
   VARSFM_REQUIRE_SHARED_DATA(photo, "bundler/kermit/kermit000.jpg");
-  const cv::Mat image = cv::imread(photo.string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat image = ReadImagePixels(photo, ColorMode::kGray);
   ASSERT_FALSE(image.empty());
   const ImageFeatures features = ExtractSift(image, SiftOptions{});
   EXPECT_GT(features.keypoints.size(), 1000u);

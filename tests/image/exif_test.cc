@@ -9,10 +9,10 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "support/test_data.h"
 #include "varsfm/image/image_io.h"
+#include "varsfm/image/jpeg_codec.h"
 
 namespace varsfm {
 namespace {
@@ -79,7 +79,7 @@ std::vector<uchar> EncodedTestImage(int width, int height) {
   cv::Mat image(height, width, CV_8UC3);
   cv::RNG(3).fill(image, cv::RNG::UNIFORM, 0, 256);
   std::vector<uchar> jpeg;
-  cv::imencode(".jpg", image, jpeg);
+  EXPECT_TRUE(EncodeJpeg(image, 95, &jpeg));
   return jpeg;
 }
 

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "support/test_data.h"
 #include "varsfm/image/image_list.h"
@@ -60,7 +59,7 @@ TEST(ReadImage, ReadsEveryFormatInGreyAndColour) {
   const cv::Mat original = RandomImage(64, 48);
   for (const char* name : {"a.jpg", "a.png", "a.tif", "a.bmp"}) {
     SCOPED_TRACE(name);
-    ASSERT_TRUE(cv::imwrite((dir.path() / name).string(), original));
+    WriteImage(dir.path() / name, original);
     const Image color = ReadImage(dir.path() / name, ColorMode::kColor);
     EXPECT_EQ(color.width(), 64);
     EXPECT_EQ(color.height(), 48);
@@ -94,7 +93,7 @@ TEST(ReadImage, TextWithAnImageExtensionIsAnErrorNamingTheFile) {
 TEST(ReadImage, TruncatedJpegIsAnError) {
   testing::TempDir dir("read_truncated");
   const fs::path full = dir.path() / "full.jpg";
-  ASSERT_TRUE(cv::imwrite(full.string(), RandomImage(200, 150)));
+  WriteImage(full, RandomImage(200, 150));
   const std::vector<uint8_t> bytes = ReadBytes(full);
   EXPECT_TRUE(IsCompleteJpeg(bytes.data(), bytes.size()));
   EXPECT_NO_THROW(ReadImage(full));

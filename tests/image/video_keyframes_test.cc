@@ -6,11 +6,11 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "support/test_data.h"
+#include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -73,7 +73,7 @@ TEST(VideoKeyframes, DropsBlurredFramesAndSpacesKeyframesByMotion) {
     // Keyframes are at least the motion threshold apart (24 px = 3 frames).
     if (previous >= 0) EXPECT_GE(index - previous, 3) << name;
     previous = index;
-    const cv::Mat written = cv::imread((dir.path() / "frames" / name).string());
+    const cv::Mat written = ReadImagePixels(dir.path() / "frames" / name);
     EXPECT_EQ(written.size(), cv::Size(320, 240)) << name;
   }
   EXPECT_EQ(FrameIndex(summary.names.front()), 0);

@@ -9,12 +9,13 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
 #include "support/test_data.h"
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/image/image_file.h"
+#include "varsfm/image/jpeg_codec.h"
 #include "varsfm/io/database.h"
 #include "varsfm/pipeline/extract.h"
 
@@ -139,7 +140,7 @@ TEST(ExtractCommand, UnreadableImagesAreSkippedWithAWarning) {
   std::ofstream(images / "text.jpg") << "not an image\n";
   const std::string jpeg = FileBytes(kermit / "kermit002.jpg");
   std::ofstream(images / "truncated.jpg", std::ios::binary) << jpeg.substr(0, jpeg.size() / 2);
-  cv::imwrite((images / "tiny.png").string(), cv::Mat(20, 20, CV_8UC1, cv::Scalar(3)));
+  WriteImage(images / "tiny.png", cv::Mat(20, 20, CV_8UC1, cv::Scalar(3)));
   std::string out;
   ASSERT_EQ(RunCommand(Extract(dir.path() / "ws.db", "--images " + Quote(images)), &out), 0) << out;
   for (const char* name : {"text.jpg", "truncated.jpg", "tiny.png"}) {
@@ -206,7 +207,7 @@ class ExtractBadInput : public ::testing::Test {
     cv::Mat image(240, 320, CV_8UC1);
     cv::RNG(1).fill(image, cv::RNG::UNIFORM, 0, 256);
     cv::GaussianBlur(image, image, cv::Size(), 2.0);
-    cv::imwrite((good_ / "a.png").string(), image);
+    WriteImage(good_ / "a.png", image);
     ASSERT_EQ(RunCommand(Extract(workspace_, "--images " + Quote(good_)), &out_), 0) << out_;
     before_ = FileBytes(workspace_);
     ASSERT_FALSE(before_.empty());
@@ -245,10 +246,10 @@ TEST_F(ExtractBadInput, OnlyTextAndTruncatedJpegs) {
   const fs::path bad = dir_.path() / "bad";
   fs::create_directories(bad);
   std::ofstream(bad / "text.jpg") << "this is text\n";
-  std::vector<uchar> jpeg;
+  std::vector<uint8_t> jpeg;
   cv::Mat image(240, 320, CV_8UC3);
   cv::RNG(2).fill(image, cv::RNG::UNIFORM, 0, 256);
-  cv::imencode(".jpg", image, jpeg);
+  ASSERT_TRUE(EncodeJpeg(image, 95, &jpeg));
   std::ofstream(bad / "truncated.jpg", std::ios::binary)
       .write(reinterpret_cast<const char*>(jpeg.data()),
              static_cast<std::streamsize>(jpeg.size() / 2));

@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "support/test_data.h"
 #include "synthetic_mesh.h"
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/synthetic/rendered_scene.h"
 
@@ -45,7 +45,7 @@ void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered) 
     image.cam_from_world = scene.poses[i];
     image.registered = i < num_registered;
     rec.AddImage(image);
-    cv::imwrite((out / "images" / image.name).string(), scene.images[i]);
+    WriteImage(out / "images" / image.name, scene.images[i]);
   }
   WriteColmapModel(rec, out / "sparse");
   WriteMeshPly(out / "mesh.ply", testing::SyntheticSceneMesh());
@@ -71,7 +71,7 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
                        &log),
             0)
       << log;
-  const cv::Mat rendered = cv::imread((out / "view2_render.png").string());
+  const cv::Mat rendered = ReadImagePixels(out / "view2_render.png");
   EXPECT_EQ(rendered.cols, 320);
   EXPECT_EQ(rendered.rows, 240);
 

@@ -6,10 +6,10 @@
 #include <fstream>
 
 #include <tiny_gltf.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "support/test_data.h"
 #include "synthetic_mesh.h"
+#include "varsfm/image/png_codec.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/texture/mesh_reader.h"
 #include "varsfm/texture/model_texture.h"
@@ -123,7 +123,7 @@ TEST(Glb, IsParseableGltfWithEmbeddedTextures) {
     const std::vector<uchar> png(
         model.buffers[view.buffer].data.begin() + view.byteOffset,
         model.buffers[view.buffer].data.begin() + view.byteOffset + view.byteLength);
-    const cv::Mat decoded = cv::imdecode(png, cv::IMREAD_COLOR);
+    const cv::Mat decoded = DecodePng(png.data(), png.size(), ColorMode::kColor);
     EXPECT_EQ(decoded.size(), mesh.pages[0].size());
   }
   EXPECT_EQ(triangles, mesh.faces.size());

@@ -72,6 +72,23 @@ std::optional<double> ResolutionUnitMm(ExifData* data) {
 
 }  // namespace
 
+int ExifOrientation(const uint8_t* data, size_t size) {
+  if (data == nullptr || size == 0) return 1;
+  // Not exif_data_new_from_data: its "follow the specification" option fills in missing
+  // mandatory tags with defaults; only a tag the file really has may turn the image.
+  ExifDataPtr exif(exif_data_new());
+  if (!exif) return 1;
+  exif_data_unset_option(exif.get(), EXIF_DATA_OPTION_FOLLOW_SPECIFICATION);
+  exif_data_load_data(exif.get(), data, static_cast<unsigned int>(size));
+  ExifEntry* entry = exif_content_get_entry(exif->ifd[EXIF_IFD_0], EXIF_TAG_ORIENTATION);
+  if (entry == nullptr || entry->components < 1 || entry->data == nullptr ||
+      entry->format != EXIF_FORMAT_SHORT) {
+    return 1;
+  }
+  const int orientation = exif_get_short(entry->data, exif_data_get_byte_order(exif.get()));
+  return orientation >= 1 && orientation <= 8 ? orientation : 1;
+}
+
 std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, int width,
                                             int height) {
   if (data == nullptr || size == 0 || width <= 0 || height <= 0) return std::nullopt;

@@ -1,6 +1,7 @@
 #pragma once
 // The EXIF tags varsfm uses: the focal length, turned into pixels so it can serve as a prior
-// for the per-image intrinsics (never required: cameras are self-calibrated).
+// for the per-image intrinsics (never required: cameras are self-calibrated), and the
+// orientation, which says how to turn the stored pixels upright.
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -17,5 +18,10 @@ namespace varsfm {
 //     scaled by the ratio of the image size to PixelX/YDimension when the image was resized.
 std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, int width,
                                             int height);
+
+// The Orientation tag (TIFF/EXIF 0x0112, IFD0) of the EXIF block of `data` (a whole JPEG file,
+// or EXIF data starting with the "Exif\0\0" header): 1 (upright, also when absent or invalid)
+// to 8; see ApplyExifOrientation in image/orientation.h.
+int ExifOrientation(const uint8_t* data, size_t size);
 
 }  // namespace varsfm

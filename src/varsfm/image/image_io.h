@@ -1,14 +1,15 @@
 #pragma once
-// Reading photographs (JPEG, PNG, TIFF, BMP) through OpenCV, upright (EXIF orientation applied)
-// and with the EXIF focal length as an optional prior.
+// Reading photographs for feature extraction: the pixels, upright (EXIF orientation applied),
+// with the EXIF focal length as an optional prior. The decoding itself, and writing images,
+// are in image_file.h (JPEG and PNG directly, other formats through the OpenCV I/O plug-in).
 #include <filesystem>
 #include <optional>
 
 #include <opencv2/core.hpp>
 
-namespace varsfm {
+#include "varsfm/image/image_file.h"
 
-enum class ColorMode { kGray, kColor };
+namespace varsfm {
 
 struct Image {
   cv::Mat pixels;                       // 8-bit, 1 (kGray) or 3 (kColor, BGR) channels, upright
@@ -18,8 +19,10 @@ struct Image {
   int height() const { return pixels.rows; }
 };
 
-// Reads `path`. Throws varsfm::Error (one line naming the file) when the file cannot be read,
-// is not a decodable image, or is a truncated JPEG (which OpenCV would silently grey-fill).
+// Reads `path` (see DecodeImage in image_file.h for the pixels). Throws varsfm::Error (one line
+// naming the file) when the file cannot be read, is not a decodable image, is a truncated JPEG
+// (which libjpeg would silently grey-fill), or needs the OpenCV I/O plug-in and that cannot be
+// loaded.
 Image ReadImage(const std::filesystem::path& path, ColorMode mode = ColorMode::kColor);
 
 }  // namespace varsfm

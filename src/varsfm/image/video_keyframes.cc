@@ -6,12 +6,11 @@
 #include <optional>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
-#include <opencv2/videoio.hpp>
-#include <opencv2/videoio/registry.hpp>
 
+#include "varsfm/image/image_file.h"
+#include "varsfm/image/video_reader.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -112,11 +111,7 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
-  // FFmpeg reads nearly every container; asking for it alone also keeps OpenCV from probing
-  // GStreamer and image sequences, which print noise for a file that is not a video.
-  const bool has_ffmpeg = cv::videoio_registry::hasBackend(cv::CAP_FFMPEG);
-  cv::VideoCapture capture(video.string(), has_ffmpeg ? cv::CAP_FFMPEG : cv::CAP_ANY);
-  if (!capture.isOpened()) Fail("cannot open video {}", video.string());
+  VideoReader capture(video);
 
   KeyframeSummary summary;
   std::deque<Frame> pending;  // decoded frames waiting for their look-ahead
@@ -127,7 +122,7 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
 
   auto read_frame = [&]() {
     cv::Mat decoded;
-    if (!capture.read(decoded) || decoded.empty()) {
+    if (!capture.Read(&decoded) || decoded.empty()) {
       end_of_video = true;
       return;
     }
@@ -146,9 +141,9 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
     }
     std::string name = fmt::format("frame_{:06d}.jpg", frame.index);
     const fs::path path = output_dir / name;
-    if (!cv::imwrite(path.string(), frame.full, {cv::IMWRITE_JPEG_QUALITY, options.jpeg_quality})) {
-      Fail("cannot write keyframe {}", path.string());
-    }
+    ImageWriteOptions write_options;
+    write_options.jpeg_quality = options.jpeg_quality;
+    WriteImage(path, frame.full, write_options);
     summary.names.push_back(std::move(name));
   };
 

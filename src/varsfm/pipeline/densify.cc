@@ -3,8 +3,8 @@
 #include <fstream>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/util/error.h"
@@ -59,8 +59,7 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
   const auto load = [&](image_t id) {
     const Image& image = rec.image(id);
     const std::filesystem::path file = options.image_dir / image.name;
-    cv::Mat pixels = cv::imread(file.string(), cv::IMREAD_COLOR);  // EXIF orientation applied
-    if (pixels.empty()) Fail("cannot read image {}", file.string());
+    cv::Mat pixels = ReadImagePixels(file, ColorMode::kColor);  // EXIF orientation applied
     const Camera& camera = rec.CameraOf(id);
     if (pixels.cols != camera.width || pixels.rows != camera.height)
       Fail("image {} is {}x{} but its camera is {}x{}", file.string(), pixels.cols, pixels.rows,

@@ -3,9 +3,8 @@
 #include <fstream>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/bundler.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
@@ -92,14 +91,20 @@ void ColorPoints(const std::filesystem::path& image_dir, Reconstruction* rec) {
   std::map<point3D_t, int> counts;
   for (const image_t id : rec->RegisteredImageIds()) {
     const Image& image = rec->image(id);
-    const cv::Mat bgr = cv::imread((image_dir / image.name).string(), cv::IMREAD_COLOR);
-    if (bgr.empty()) continue;
+    cv::Mat bgr;
+    try {
+      bgr = ReadImagePixels(image_dir / image.name, ColorMode::kColor);
+    } catch (const Error&) {
+      continue;  // colours are cosmetic: a photo that went missing leaves its points grey
+    }
     for (const auto& p : image.points2D) {
       if (!p.HasPoint3D()) continue;
       const int x = std::clamp(static_cast<int>(p.xy.x()), 0, bgr.cols - 1);
       const int y = std::clamp(static_cast<int>(p.xy.y()), 0, bgr.rows - 1);
       const cv::Vec3b c = bgr.at<cv::Vec3b>(y, x);
-      sums[p.point3D_id] += Eigen::Vector3d(c[2], c[1], c[0]);
+      // try_emplace with Zero: map::operator[] would leave a new Eigen vector uninitialised.
+      sums.try_emplace(p.point3D_id, Eigen::Vector3d::Zero()).first->second +=
+          Eigen::Vector3d(c[2], c[1], c[0]);
       ++counts[p.point3D_id];
     }
   }

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/texture/model_texture.h"
 #include "varsfm/texture/obj_io.h"
@@ -25,14 +25,9 @@ fs::path TexturedObjPath(const fs::path& file_or_dir) {
 
 namespace {
 
-void WriteImage(const fs::path& file, const cv::Mat& image) {
+void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
-  bool ok = false;
-  try {
-    ok = cv::imwrite(file.string(), image);
-  } catch (const cv::Exception&) {  // e.g. an extension OpenCV has no encoder for
-  }
-  if (!ok) Fail("{}: cannot write image", file.string());
+  WriteImage(file, image);
 }
 
 }  // namespace
@@ -47,11 +42,11 @@ void RunRender(const RenderCommandOptions& options) {
   for (const image_t id : rec.RegisteredImageIds()) {
     if (rec.image(id).name != options.camera) continue;
     const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), rec.image(id).cam_from_world);
-    WriteImage(options.output, r.image);
+    WriteRenderedImage(options.output, r.image);
     if (options.write_mask) {
       fs::path mask = options.output;
       mask.replace_filename(options.output.stem().string() + "_mask.png");
-      WriteImage(mask, r.mask);
+      WriteRenderedImage(mask, r.mask);
     }
     info("render: {} ({:.0f} % covered) -> {}", options.camera,
          100.0 * cv::countNonZero(r.mask) / r.mask.total(), options.output.string());
@@ -79,7 +74,8 @@ RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
     const PhotometricScore s = ComparePhotometric(r, photo);
     report.images.push_back({image.name, s.psnr_db, s.coverage});
     if (!options.render_dir.empty())
-      WriteImage(options.render_dir / (fs::path(image.name).stem().string() + ".png"), r.image);
+      WriteRenderedImage(options.render_dir / (fs::path(image.name).stem().string() + ".png"),
+                         r.image);
     report.mean_coverage += s.coverage;
     if (s.covered_pixels > 0 && std::isfinite(s.psnr_db)) {
       report.mean_psnr_db += s.psnr_db;

@@ -6,9 +6,9 @@
 #include <numbers>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -213,8 +213,7 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
   std::filesystem::create_directories(gt_dir);
   for (size_t i = 0; i < scene.images.size(); ++i) {
     const std::string name = fmt::format("image_{:04d}.png", i);
-    if (!cv::imwrite((image_dir / name).string(), scene.images[i]))
-      Fail("cannot write {}", (image_dir / name).string());
+    WriteImage(image_dir / name, scene.images[i]);
     const Camera& c = scene.cameras[i];
     Eigen::Matrix3d K = c.K();
     K(0, 2) -= 0.5;  // Strecha's convention: the centre of the top-left pixel is (0, 0)

@@ -5,8 +5,8 @@
 #include <system_error>
 
 #include <tiny_gltf.h>
-#include <opencv2/imgcodecs.hpp>
 
+#include "varsfm/image/png_codec.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -87,8 +87,8 @@ void WriteGlb(const std::filesystem::path& file, const TexturedMesh& mesh) {
   tinygltf::Mesh gltf_mesh;
   for (size_t p = 0; p < mesh.pages.size(); ++p) {
     if (indices[p].empty()) continue;
-    std::vector<uchar> png;
-    if (!cv::imencode(".png", mesh.pages[p], png)) Fail("{}: cannot encode atlas", file.string());
+    std::vector<uint8_t> png;
+    if (!EncodePng(mesh.pages[p], &png)) Fail("{}: cannot encode atlas", file.string());
     tinygltf::Image image;
     image.mimeType = "image/png";
     image.bufferView = AddBufferView(&model, png.data(), png.size(), 0);

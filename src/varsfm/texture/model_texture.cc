@@ -1,7 +1,6 @@
 #include "varsfm/texture/model_texture.h"
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -20,8 +19,7 @@ std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
 cv::Mat ReadModelPhoto(const Reconstruction& reconstruction, image_t image_id,
                        const std::filesystem::path& image_dir) {
   const std::filesystem::path file = image_dir / reconstruction.image(image_id).name;
-  cv::Mat pixels = cv::imread(file.string(), cv::IMREAD_COLOR);  // EXIF orientation applied
-  if (pixels.empty()) Fail("cannot read image {}", file.string());
+  cv::Mat pixels = ReadImagePixels(file, ColorMode::kColor);  // EXIF orientation applied
   const Camera& camera = reconstruction.CameraOf(image_id);
   if (pixels.cols != camera.width || pixels.rows != camera.height)
     Fail("image {} is {}x{} but its camera is {}x{}", file.string(), pixels.cols, pixels.rows,

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/util/error.h"
 
@@ -26,8 +26,7 @@ void WriteTexturedObj(const fs::path& dir, const TexturedMesh& mesh, const std::
         mtl << fmt::format(
             "newmtl page_{}\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd {}_{}.png\n\n", p, name,
             p);
-        if (!cv::imwrite((tmp / names[2 + p]).string(), mesh.pages[p]))
-          Fail("{}: cannot write", (dir / names[2 + p]).string());
+        WriteImage(tmp / names[2 + p], mesh.pages[p]);
       }
       if (!mtl) Fail("{}: cannot write", (dir / names[1]).string());
     }
@@ -128,8 +127,7 @@ TexturedMesh ReadTexturedObj(const fs::path& obj_file) {
         const auto texture = textures.find(material);
         if (texture == textures.end())
           Fail("{}:{}: material {} has no texture", obj_file.string(), line_number, material);
-        cv::Mat image = cv::imread(texture->second.string(), cv::IMREAD_COLOR);
-        if (image.empty()) Fail("{}: cannot read texture", texture->second.string());
+        cv::Mat image = ReadImagePixels(texture->second, ColorMode::kColor);
         page = static_cast<int>(mesh.pages.size());
         page_of_material[material] = page;
         mesh.pages.push_back(image);

@@ -1,0 +1,129 @@
+#include "varsfm/image/image_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "varsfm/image/exif.h"
+#include "varsfm/image/jpeg_check.h"
+#include "varsfm/image/jpeg_codec.h"
+#include "varsfm/image/opencv_io_plugin.h"
+#include "varsfm/image/orientation.h"
+#include "varsfm/image/png_codec.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// cv::IMREAD_GRAYSCALE / cv::IMREAD_COLOR and cv::IMWRITE_JPEG_QUALITY (imgcodecs.hpp, a
+// header of the library this code no longer links; the values are OpenCV's stable API).
+constexpr int kImreadGrayscale = 0;
+constexpr int kImreadColor = 1;
+constexpr int kImwriteJpegQuality = 1;
+
+// What precedes EXIF data in a JPEG APP1 segment, and what libexif looks for.
+constexpr uint8_t kExifHeader[] = {'E', 'x', 'i', 'f', 0, 0};
+
+// Any format but JPEG and PNG: OpenCV decodes it, EXIF orientation included.
+cv::Mat DecodeWithPlugin(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
+                         ColorMode mode) {
+  const OpenCvIoPlugin& plugin =
+      RequireOpenCvIoPlugin("cannot read " + path.string(), "format needs");
+  cv::Mat pixels;
+  char error[512] = "";
+  const int flags = mode == ColorMode::kGray ? kImreadGrayscale : kImreadColor;
+  if (!plugin.decode(bytes.data(), bytes.size(), flags, &pixels, error, sizeof(error)))
+    pixels.release();
+  return pixels;
+}
+
+std::string LowerExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+bool WriteFileBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  file.close();
+  return static_cast<bool>(file);
+}
+
+}  // namespace
+
+std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) Fail("cannot open image {}", path.string());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)),
+                             std::istreambuf_iterator<char>());
+  if (file.bad()) Fail("cannot read image {}", path.string());
+  if (bytes.empty()) Fail("image {} is empty", path.string());
+  return bytes;
+}
+
+cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
+                    ColorMode mode) {
+  const bool jpeg = LooksLikeJpeg(bytes.data(), bytes.size());
+  if (jpeg && !IsCompleteJpeg(bytes.data(), bytes.size())) {
+    Fail("image {} is a truncated or corrupt JPEG", path.string());
+  }
+  std::optional<cv::Mat> direct;
+  int orientation = 1;
+  if (jpeg) {
+    direct = DecodeJpeg(bytes.data(), bytes.size(), mode);  // nothing for CMYK: OpenCV does it
+    if (direct && !direct->empty()) orientation = ExifOrientation(bytes.data(), bytes.size());
+  } else if (LooksLikePng(bytes.data(), bytes.size())) {
+    std::vector<uint8_t> exif;
+    direct = DecodePng(bytes.data(), bytes.size(), mode, &exif);
+    if (!exif.empty()) {
+      exif.insert(exif.begin(), kExifHeader, kExifHeader + sizeof(kExifHeader));
+      orientation = ExifOrientation(exif.data(), exif.size());
+    }
+  }
+  cv::Mat pixels;
+  if (direct) {
+    // As cv::imread: the EXIF orientation (JPEG APP1, PNG eXIf chunk) turns the image upright.
+    pixels = std::move(*direct);
+    if (!pixels.empty()) ApplyExifOrientation(orientation, &pixels);
+  } else {
+    pixels = DecodeWithPlugin(path, bytes, mode);
+  }
+  if (pixels.empty()) Fail("image {} is not a decodable image", path.string());
+  return pixels;
+}
+
+cv::Mat ReadImagePixels(const std::filesystem::path& path, ColorMode mode) {
+  return DecodeImage(path, ReadImageFile(path), mode);
+}
+
+void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
+                const ImageWriteOptions& options) {
+  const std::string extension = LowerExtension(path);
+  std::vector<uint8_t> bytes;
+  bool encoded = false;
+  if (extension == ".png") {
+    encoded = EncodePng(image, &bytes);
+  } else if (extension == ".jpg" || extension == ".jpeg" || extension == ".jpe") {
+    encoded = EncodeJpeg(image, options.jpeg_quality, &bytes);
+  }
+  if (encoded) {
+    if (!WriteFileBytes(path, bytes)) Fail("cannot write image {}", path.string());
+    return;
+  }
+  // Other formats, and image types the direct encoders do not take (OpenCV converts them).
+  const OpenCvIoPlugin& plugin =
+      RequireOpenCvIoPlugin("cannot write image " + path.string(), "format needs");
+  const int params[] = {kImwriteJpegQuality, options.jpeg_quality};
+  char error[512] = "";
+  if (!plugin.write(path.c_str(), &image, params, std::size(params), error, sizeof(error)))
+    Fail("cannot write image {}: {}", path.string(), error);
+}
+
+}  // namespace varsfm
