@@ -123,6 +123,28 @@ TEST(IncrementalMapper, SameSeedSameModelBitForBit) {
     EXPECT_EQ(point.xyz, b.reconstruction.point3D(id).xyz) << id;
 }
 
+// Every optical axis through (nearly) one point, as in entry-P10: the initial pair is degenerate
+// for self-calibration and its focal lengths start from the prior, here 1.54x the true 800 px.
+// A third view chooses the pair's focal length (SelectDegenerateFocal); the model grown from it
+// reaches the true focal lengths.
+TEST(IncrementalMapper, DegenerateInitialPairTakesItsFocalFromAThirdView) {
+  SyntheticOptions o = ZoomingOrbit();
+  o.focal_start = o.focal_end = 800;
+  o.look_at_jitter = 0.05;
+  o.arc_degrees = 60;
+  const SyntheticScene scene = GenerateSyntheticScene(o);
+  MapperInput in = MakeInput(scene);
+  const MapperSummary summary =
+      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  ASSERT_TRUE(summary.success) << summary.message;
+  ASSERT_TRUE(summary.initial_focal_from_prior);
+  const double truth_scale = 800 / (1.2 * std::max(o.width, o.height));
+  EXPECT_NEAR(summary.initial_focal_scale / truth_scale, 1.0, 0.06);
+  EXPECT_EQ(in.reconstruction.NumRegisteredImages(), 12u);
+  for (const auto& [id, image] : in.reconstruction.images())
+    EXPECT_NEAR(in.reconstruction.camera(image.camera_id).focal() / 800, 1.0, 0.01) << id;
+}
+
 TEST(IncrementalMapper, PureRotationCannotInitialise) {
   SyntheticOptions o = ZoomingOrbit();
   o.path = SyntheticOptions::Path::kPureRotation;

@@ -26,6 +26,7 @@ std::pair<double, double> InitialFocals(const Eigen::Matrix3d& F, const Camera& 
   const double size1 = std::max(c1.width, c1.height), size2 = std::max(c2.width, c2.height);
   const auto fallback = [&](const std::string& reason) {
     result->degenerate = true;
+    result->focal_from_prior = true;
     result->degeneracy_reason = reason;
     return std::make_pair(o.prior_focal1.value_or(o.prior_focal_factor * size1),
                           o.prior_focal2.value_or(o.prior_focal_factor * size2));
@@ -106,6 +107,7 @@ TwoViewCalibration CalibrateTwoView(const std::vector<Eigen::Vector2d>& x1,
   if (median_angle >= 0.0 && !result.degenerate &&
       median_angle < options.min_median_triangulation_angle_deg * M_PI / 180.0) {
     result.degenerate = true;
+    result.focal_from_prior = true;
     result.degeneracy_reason = "too little parallax (pure rotation or short baseline)";
     result.camera1.focal() =
         options.prior_focal1.value_or(options.prior_focal_factor * std::max(w1, h1));

@@ -42,6 +42,9 @@ struct TwoViewCalibrationOptions {
 struct TwoViewCalibration {
   bool success = false;
   bool degenerate = false;
+  // Degenerate before the refinement: the focal lengths are the priors, held (the refinement
+  // can flag a pair too, keeping its refined focal lengths).
+  bool focal_from_prior = false;
   std::string degeneracy_reason;
   Camera camera1, camera2;
   Rigid3d cam2_from_cam1;

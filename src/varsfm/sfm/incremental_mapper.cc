@@ -26,12 +26,6 @@ namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
 
-// A 2D point of the image being registered and the 3D point its tracks lead to.
-struct Correspondence2D3D {
-  point2D_t point2D_idx;
-  point3D_t point3D_id;
-};
-
 // The intrinsics the bundle adjustments refine, from the mapper's policy. Parameters shared
 // per image size are estimated in the adjustments of the whole model (`whole_model`: two-view
 // and global; groups need min_images_to_share images, so the two-view one holds them) and held
@@ -125,14 +119,18 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   for (int k = 0; k < trials; ++k) geometries.push_back(EstimatePairGeometry(*rec, candidates[k]));
   // Pass 1: well-conditioned pairs whose calibration is not flagged; pass 2: any pair.
   bool initialized = false;
+  int initial = -1;
   for (const bool first_pass : {true, false}) {
     for (int k = 0; k < trials && !initialized; ++k) {
       if (!geometries[k].success || (first_pass && !geometries[k].well_conditioned)) continue;
       *rec = empty;
       initialized = Initialize(rec, candidates[k], geometries[k],
                                /*accept_degenerate=*/!first_pass, &summary);
+      initial = k;
     }
   }
+  if (initialized && summary.initial_focal_from_prior && options_.degenerate_init_focal_search)
+    SelectDegenerateFocal(empty, candidates[initial], geometries[initial], rec, &summary);
   if (!initialized) {
     *rec = empty;
     summary.message =
@@ -242,7 +240,7 @@ IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
 
 bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
                                    const PairGeometry& geometry, bool accept_degenerate,
-                                   MapperSummary* summary) {
+                                   MapperSummary* summary, double focal_scale) {
   const image_t id1 = pair.image_id1, id2 = pair.image_id2;
   const FeatureMatches& inlier_matches = geometry.inlier_matches;
   std::vector<Eigen::Vector2d> in1, in2;
@@ -258,6 +256,10 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   // distortion is estimated once more views are in.
   calib_options.refine_distortion = false;
   calib_options.num_threads = options_.num_threads;
+  // The workspace's focal lengths are the priors (EXIF, else the extraction's fallback factor x
+  // the larger image side): a degenerate pair keeps them.
+  calib_options.prior_focal1 = focal_scale * camera1.focal();
+  calib_options.prior_focal2 = focal_scale * camera2.focal();
   const TwoViewCalibration calib =
       CalibrateTwoView(in1, in2, camera1.width, camera1.height, camera2.width, camera2.height,
                        geometry.F, calib_options);
@@ -299,6 +301,8 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   summary->initial_image_id1 = id1;
   summary->initial_image_id2 = id2;
   summary->initial_calibration_degenerate = calib.degenerate;
+  summary->initial_focal_from_prior = calib.focal_from_prior;
+  summary->initial_focal_scale = focal_scale;
   registration_order_ = {id1, id2};
   return true;
 }
@@ -343,13 +347,110 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
   return ids;
 }
 
-bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
-  Image& image = rec->image(image_id);
+void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
+                                              const InitialPairCandidate& pair,
+                                              const PairGeometry& geometry, Reconstruction* rec,
+                                              MapperSummary* summary) {
+  // Two views in a critical configuration for self-calibration (optical axes through one point)
+  // are consistent with any focal length: for the wrong one the pair's reconstruction is a
+  // projective distortion of the scene (Sturm, "Critical motion sequences for the
+  // self-calibration of cameras and stereo systems with variable focal length", 1999). A third
+  // view, seen from elsewhere, tells: a camera with zero skew and unit aspect fits the
+  // distorted structure only with larger reprojection errors. So each candidate scale of the
+  // priors initialises the pair, registers the same next image, and is scored by that image's
+  // truncated squared reprojection error over all its 2D-3D correspondences (MSAC's cost).
+  // Scales a factor sqrt(2) apart from 1, widened towards the better side until the minimum is
+  // bracketed (x0.5 .. x2 the prior, i.e. 0.6 .. 2.4 x the larger image side without EXIF), then
+  // a parabola in log(scale) through the bracket.
+  // entry-P10 (true f 920 px, prior 1229 px): grown from the prior, the model's focal lengths
+  // drifted to 800-3200 px and its final adjustment took 51 + 50 iterations (5.4 s map); the
+  // search picks 907 px, the final adjustment takes 16 iterations (2.6 s map).
+  const std::vector<image_t> next = NextImageCandidates(*rec);
+  if (next.empty()) return;
+  const image_t probe = next.front();
+  const double tau2 = options_.registration_max_error_px * options_.registration_max_error_px;
+  struct Trial {
+    double score = std::numeric_limits<double>::infinity();
+    Reconstruction rec;  // the pair initialised at this scale (before the probe)
+    MapperSummary summary;
+  };
+  const auto evaluate = [&](double log_scale, const Reconstruction* initialized) {
+    Trial trial;
+    if (initialized) {
+      trial.rec = *initialized;
+      trial.summary = *summary;
+    } else {
+      trial.rec = empty;
+      trial.summary = *summary;
+      if (!Initialize(&trial.rec, pair, geometry, /*accept_degenerate=*/true, &trial.summary,
+                      std::exp(log_scale)))
+        return trial;
+    }
+    Reconstruction probed = trial.rec;
+    if (!RegisterImage(&probed, probe)) return trial;
+    const Image& image = probed.image(probe);
+    const Camera& camera = probed.CameraOf(probe);
+    const auto corrs = Correspondences(probed, probe);
+    double sum = 0.0;
+    for (const auto& c : corrs) {
+      const double e =
+          ReprojectionError(camera, image.cam_from_world, image.points2D[c.point2D_idx].xy,
+                            probed.point3D(c.point3D_id).xyz);
+      sum += std::min(tau2, e * e);
+    }
+    if (!corrs.empty()) trial.score = sum / corrs.size();
+    return trial;
+  };
+  const double step = 0.5 * std::log(2.0), limit = 2 * step;
+  std::map<double, Trial> trials;  // by log(scale)
+  trials.emplace(0.0, evaluate(0.0, rec));
+  for (const double l : {-step, step}) trials.emplace(l, evaluate(l, nullptr));
+  const auto best = [&trials] {
+    return std::min_element(trials.begin(), trials.end(), [](const auto& a, const auto& b) {
+      return a.second.score < b.second.score;
+    });
+  };
+  // Widen towards the better end while the best candidate is at an end.
+  for (auto it = best(); it->first != 0.0; it = best()) {
+    const double outward = it->first + (it->first > 0 ? step : -step);
+    if (it != trials.begin() && std::next(it) != trials.end()) break;  // bracketed
+    if (std::abs(outward) > limit + 1e-9) break;
+    trials.emplace(outward, evaluate(outward, nullptr));
+  }
+  auto it = best();
+  if (it != trials.begin() && std::next(it) != trials.end() &&
+      std::isfinite(std::prev(it)->second.score) && std::isfinite(std::next(it)->second.score)) {
+    // Vertex of the parabola through the bracket (equally spaced).
+    const double a = std::prev(it)->second.score, b = it->second.score,
+                 c = std::next(it)->second.score;
+    const double curvature = a - 2 * b + c;
+    if (curvature > 0) {
+      const double vertex = it->first + 0.5 * step * (a - c) / curvature;
+      trials.emplace(vertex, evaluate(vertex, nullptr));
+      it = best();
+    }
+  }
+  std::string profile;
+  for (const auto& [l, trial] : trials)
+    profile += fmt::format(" x{:.3f}: {:.3f}", std::exp(l), trial.score);
+  debug(
+      "degenerate initial pair: focal x{:.3f} of the prior (truncated squared error of image "
+      "{}, px^2:{})",
+      std::exp(it->first), probe, profile);
+  if (!std::isfinite(it->second.score) || it->first == 0.0) return;  // keep the prior's
+  *rec = std::move(it->second.rec);
+  *summary = it->second.summary;
+  registration_order_ = {pair.image_id1, pair.image_id2};
+}
+
+std::vector<IncrementalMapper::Correspondence2D3D> IncrementalMapper::Correspondences(
+    const Reconstruction& rec, image_t image_id) const {
   // 2D-3D correspondences through tracks (Algorithm 2, over every registered image).
+  const Image& image = rec.image(image_id);
   std::vector<Correspondence2D3D> corrs;
   for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
     for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
-      const Image& other = rec->image(corr.image_id);
+      const Image& other = rec.image(corr.image_id);
       if (!other.registered) continue;
       const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
       if (pid == kInvalidPoint3DId) continue;
@@ -357,6 +458,12 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
       break;
     }
   }
+  return corrs;
+}
+
+bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
+  Image& image = rec->image(image_id);
+  const std::vector<Correspondence2D3D> corrs = Correspondences(*rec, image_id);
   if (corrs.size() < static_cast<size_t>(std::max(options_.min_correspondences, 6))) return false;
   std::vector<Eigen::Vector2d> x;
   std::vector<Eigen::Vector3d> X;
@@ -590,6 +697,12 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
         ba_summary.initial_rms_px, ba_summary.final_rms_px);
+  if (spdlog::should_log(spdlog::level::debug)) {
+    std::string focals;
+    for (const image_t id : registration_order_)
+      focals += fmt::format(" {}:{:.0f}", id, rec->CameraOf(id).focal());
+    debug("focal lengths after the global BA:{}", focals);
+  }
   rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
   rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
   if (retriangulate) {

@@ -50,6 +50,9 @@ struct IncrementalMapperOptions {
   // After a degenerate initial pair (focal lengths held in its two-view adjustment), a global
   // adjustment when this many images are registered (0: none).
   int degenerate_init_global_ba_images = 4;
+  // A degenerate initial pair's focal length is chosen by a third view (SelectDegenerateFocal
+  // in incremental_mapper.cc) instead of taken from the prior.
+  bool degenerate_init_focal_search = true;
   int final_global_ba_max_iterations = 50;
   int first_global_ba_images = 13;  // M0 of the paper (10..20)
   // Beyond the paper: a further global BA each time the model has grown by this factor since
@@ -101,6 +104,8 @@ struct MapperSummary {
   image_t initial_image_id1 = kInvalidImageId;
   image_t initial_image_id2 = kInvalidImageId;
   bool initial_calibration_degenerate = false;
+  bool initial_focal_from_prior = false;  // degenerate: the pair's focal lengths were held
+  double initial_focal_scale = 1.0;       // of the priors, chosen by SelectDegenerateFocal
   size_t num_registered = 0;
   size_t num_images = 0;
   size_t num_local_ba = 0;
@@ -136,8 +141,23 @@ class IncrementalMapper {
   PairGeometry EstimatePairGeometry(const Reconstruction& rec,
                                     const InitialPairCandidate& pair) const;
   // `accept_degenerate`: whether a pair whose self-calibration is flagged degenerate is used.
+  // A degenerate pair's focal lengths are held at `focal_scale` x their priors.
   bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
-                  const PairGeometry& geometry, bool accept_degenerate, MapperSummary* summary);
+                  const PairGeometry& geometry, bool accept_degenerate, MapperSummary* summary,
+                  double focal_scale = 1.0);
+  // Re-initialises `rec` (the pair initialised at scale 1; `empty`: the model before) at the
+  // scale of the pair's prior focal lengths that a third view fits best.
+  void SelectDegenerateFocal(const Reconstruction& empty, const InitialPairCandidate& pair,
+                             const PairGeometry& geometry, Reconstruction* rec,
+                             MapperSummary* summary);
+  // A 2D point of an unregistered image and the 3D point its tracks lead to.
+  struct Correspondence2D3D {
+    point2D_t point2D_idx;
+    point3D_t point3D_id;
+  };
+  // Through tracks (Algorithm 2 of the paper, generalised to every registered image).
+  std::vector<Correspondence2D3D> Correspondences(const Reconstruction& rec,
+                                                  image_t image_id) const;
   bool RegisterImage(Reconstruction* rec, image_t image_id);
   size_t TriangulateImage(Reconstruction* rec, image_t image_id);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
