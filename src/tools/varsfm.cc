@@ -48,6 +48,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                   "after a degenerate initial pair, a global BA when this many images are in "
                   "(0: none)")
       ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_flag("!--no-degenerate-focal-search", m.degenerate_init_focal_search,
+                "keep the prior focal length of a degenerate initial pair (default: the one a "
+                "third view fits best)");
   cmd->add_flag("!--no-final-global-ba", m.final_global_ba,
                 "skip the global BA at the end (with --global-ba-images above the image count, "
                 "--global-ba-growth 0 and --degenerate-init-global-ba 0: local BA only)");

@@ -193,6 +193,9 @@ MapResult RunMapping(const MapOptions& options) {
                         {"global_ba", result.mapper.seconds_global_ba}};
   summary["initial_pair"] = {result.mapper.initial_image_id1, result.mapper.initial_image_id2};
   summary["initial_calibration_degenerate"] = result.mapper.initial_calibration_degenerate;
+  // Degenerate pairs that took the prior: the scale of it the third view chose (1: the prior).
+  if (result.mapper.initial_focal_from_prior)
+    summary["initial_focal_prior_scale"] = result.mapper.initial_focal_scale;
   summary["local_bundle_adjustments"] = result.mapper.num_local_ba;
   summary["global_bundle_adjustments"] = result.mapper.num_global_ba;
   std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
