@@ -141,10 +141,11 @@ class IncrementalMapper {
   PairGeometry EstimatePairGeometry(const Reconstruction& rec,
                                     const InitialPairCandidate& pair) const;
   // `accept_degenerate`: whether a pair whose self-calibration is flagged degenerate is used.
-  // A degenerate pair's focal lengths are held at `focal_scale` x their priors.
+  // A degenerate pair's focal lengths are held at `focal_scale` x their priors; `adjust`:
+  // whether the two-view bundle adjustment runs (a trial of SelectDegenerateFocal skips it).
   bool Initialize(Reconstruction* rec, const InitialPairCandidate& pair,
                   const PairGeometry& geometry, bool accept_degenerate, MapperSummary* summary,
-                  double focal_scale = 1.0);
+                  double focal_scale = 1.0, bool adjust = true);
   // Re-initialises `rec` (the pair initialised at scale 1; `empty`: the model before) at the
   // scale of the pair's prior focal lengths that a third view fits best.
   void SelectDegenerateFocal(const Reconstruction& empty, const InitialPairCandidate& pair,
