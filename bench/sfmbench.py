@@ -328,12 +328,6 @@ def colmap_map(colmap, db, images_dir, out, work, tag="map", timeout=None):
 
 # ---- output ----
 
-def median(values):
-    values = sorted(values)
-    n = len(values)
-    return values[n // 2] if n % 2 else 0.5 * (values[n // 2 - 1] + values[n // 2])
-
-
 def fmt(v, digits=2):
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "-"
