@@ -397,9 +397,8 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   std::map<double, double> trials;  // score by log(scale)
   for (const double l : {-step, 0.0, step}) trials.emplace(l, evaluate(l));
   const auto best = [&trials] {
-    return std::min_element(trials.begin(), trials.end(), [](const auto& a, const auto& b) {
-      return a.second < b.second;
-    });
+    return std::min_element(trials.begin(), trials.end(),
+                            [](const auto& a, const auto& b) { return a.second < b.second; });
   };
   // Widen towards the better end while the best candidate is at an end.
   for (auto it = best(); it->first != 0.0; it = best()) {
