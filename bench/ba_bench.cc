@@ -1,7 +1,11 @@
-// Global bundle adjustment of 30 images and 15,000 points with per-image intrinsics (f, k1, k2
-// free), 0.5 px noise, from a perturbed start, for each linear solver choice
-// (ba/bundle_adjuster.cc, ChooseSolver) and thread count. Reports time, iterations and the
-// final RMS.
+// Global bundle adjustment from a perturbed start, 0.5 px noise, per-image intrinsics (f, k1,
+// k2 free):
+//  - BM_GlobalBundleAdjustment: 30 images and 15,000 points, for each linear solver choice
+//    (ba/bundle_adjuster.cc, ChooseSolver) and thread count;
+//  - BM_SmallBundleAdjustment: 10 images and 1,000 points with the mapper's shared principal
+//    point, the size of a small photo set's final adjustment, for the project's dense Schur LM
+//    (dense_schur_solver.h) against Ceres' DENSE_SCHUR.
+// Reports time, iterations and the final RMS.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -13,10 +17,10 @@ namespace varsfm {
 namespace {
 
 // The scene as a reconstruction with poses, points and focals moved off the truth.
-Reconstruction PerturbedScene() {
+Reconstruction PerturbedScene(int num_images, int num_points) {
   SyntheticOptions o;
-  o.num_images = 30;
-  o.num_points = 15000;
+  o.num_images = num_images;
+  o.num_points = num_points;
   o.arc_degrees = 90.0;
   o.focal_start = 800.0;
   o.focal_end = 1280.0;
@@ -38,7 +42,7 @@ Reconstruction PerturbedScene() {
 }
 
 void BM_GlobalBundleAdjustment(benchmark::State& state) {
-  static const Reconstruction start = PerturbedScene();
+  static const Reconstruction start = PerturbedScene(30, 15000);
   BundleAdjustmentOptions options;
   options.solver = static_cast<BundleAdjustmentOptions::Solver>(state.range(0));
   options.num_threads = static_cast<int>(state.range(1));
@@ -62,6 +66,34 @@ BENCHMARK(BM_GlobalBundleAdjustment)
     ->ArgNames({"solver", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
+    ->UseRealTime();
+
+void BM_SmallBundleAdjustment(benchmark::State& state) {
+  static const Reconstruction start = PerturbedScene(10, 1000);
+  BundleAdjustmentOptions options;
+  options.solver = static_cast<BundleAdjustmentOptions::Solver>(state.range(0));
+  options.function_tolerance = 1e-5;  // the mapper's global adjustments
+  options.intrinsics.refine_principal_point = true;
+  options.intrinsics.shared_per_size = {Camera::kU0, Camera::kV0};
+  BundleAdjustmentSummary summary;
+  for (auto _ : state) {
+    state.PauseTiming();
+    Reconstruction rec = start;
+    state.ResumeTiming();
+    summary = RunBundleAdjustment(options, BundleAdjustmentConfig::Global(rec), &rec);
+  }
+  state.SetLabel(summary.solver);
+  state.counters["iterations"] = summary.iterations;
+  state.counters["final_rms_px"] = summary.final_rms_px;
+  state.counters["observations"] = summary.num_residuals;
+}
+// kNativeDenseSchur (5) and kDenseSchur (1), one thread.
+BENCHMARK(BM_SmallBundleAdjustment)
+    ->Arg(5)
+    ->Arg(1)
+    ->ArgName("solver")
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
     ->UseRealTime();
 
 }  // namespace

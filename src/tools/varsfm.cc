@@ -7,9 +7,9 @@
 #include <exception>
 #include <string>
 
-#include "varsfm/pipeline/evaluate.h"
 #include "varsfm/pipeline/demo.h"
 #include "varsfm/pipeline/densify.h"
+#include "varsfm/pipeline/evaluate.h"
 #include "varsfm/pipeline/extract.h"
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
@@ -31,23 +31,29 @@ void SetLogLevel(const std::string& level) {
 void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   auto& m = map->mapper;
   cmd->add_option("--local-ba-images", m.local_ba_images, "m0: images in each local BA")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--local-ba-max-track", m.local_ba_max_track_length,
                   "points seen by more images are held constant in local BAs (0: none)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--global-ba-images", m.first_global_ba_images,
                   "M0: images registered before the first global BA (0: after every image)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--global-ba-growth", m.global_ba_growth,
                   "further global BA when the model grew by this factor (0: never)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--global-ba-tolerance", m.global_ba_function_tolerance,
                   "global BAs stop when an iteration lowers the cost by less than this fraction")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--degenerate-init-global-ba", m.degenerate_init_global_ba_images,
                   "after a degenerate initial pair, a global BA when this many images are in "
                   "(0: none)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_flag("!--no-degenerate-focal-search", m.degenerate_init_focal_search,
                 "keep the prior focal length of a degenerate initial pair (default: the one a "
                 "third view fits best)");
@@ -55,7 +61,8 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                 "skip the global BA at the end (with --global-ba-images above the image count, "
                 "--global-ba-growth 0 and --degenerate-init-global-ba 0: local BA only)");
   cmd->add_option("--min-correspondences", m.min_correspondences, "n0: 2D-3D needed (>= 6)")
-      ->capture_default_str()->check(CLI::Range(6, 1000000));
+      ->capture_default_str()
+      ->check(CLI::Range(6, 1000000));
   cmd->add_flag("--refine-principal-point", m.refine_principal_point,
                 "estimate the principal point per image (default: held at the centre)");
   cmd->add_flag("!--no-shared-principal-point", m.share_principal_point,
@@ -67,17 +74,20 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
   cmd->add_option("--seed", m.seed, "random seed")->capture_default_str();
-  cmd->add_option("--threads", m.num_threads, "bundle adjustment threads (1: reproducible bit for bit; 0: all cores)")->capture_default_str();
+  cmd->add_option("--threads", m.num_threads,
+                  "bundle adjustment threads (1: reproducible bit for bit; 0: all cores)")
+      ->capture_default_str();
   using Solver = varsfm::BundleAdjustmentOptions::Solver;
   static const std::map<std::string, Solver> kSolvers = {
       {"auto", Solver::kAuto},
+      {"native", Solver::kNativeDenseSchur},
       {"dense", Solver::kDenseSchur},
       {"sparse", Solver::kSparseSchurSuiteSparse},
       {"sparse-eigen", Solver::kSparseSchurEigen},
       {"iterative", Solver::kIterativeSchur}};
   cmd->add_option("--ba-solver", m.ba_solver,
-                  "bundle adjustment linear solver: auto (by size) | dense | sparse | "
-                  "sparse-eigen | iterative (Schur complement each)")
+                  "bundle adjustment solver: auto (by size) | native (varsfm's dense Schur LM) | "
+                  "dense | sparse | sparse-eigen | iterative (Ceres, Schur complement each)")
       ->transform(CLI::CheckedTransformer(kSolvers, CLI::ignore_case));
   static const std::map<std::string, varsfm::IntrinsicsSharing> kSharing = {
       {"per-image", varsfm::IntrinsicsSharing::kPerImage},
@@ -112,17 +122,22 @@ int main(int argc, char** argv) {
     input->add_option("--video", extract.video, "video; keyframes go to <workspace>_frames/");
     input->require_option(1);
     cmd->add_option("--max-features", extract.sift.max_features, "strongest features kept")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--max-image-size", extract.sift.max_image_size,
                     "larger images are downscaled for extraction")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--contrast-threshold", extract.sift.contrast_threshold,
                     "SIFT contrast threshold (OpenCV's; lower: more, weaker features)")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--max-frames", extract.keyframes.max_frames, "video keyframe cap (0: none)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--threads", extract.threads, "worker threads (0: all cores)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&extract] { varsfm::RunExtraction(extract); });
   }
 
@@ -132,18 +147,24 @@ int main(int argc, char** argv) {
     CLI::App* cmd = app.add_subcommand("match", "match features of image pairs and verify them");
     cmd->add_option("--workspace", match.workspace, "workspace database")->required();
     cmd->add_option("--strategy", match.strategy, "exhaustive | sequential")
-        ->capture_default_str()->check(CLI::IsMember({"exhaustive", "sequential"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"exhaustive", "sequential"}));
     cmd->add_option("--overlap", match.overlap, "sequential: each image with its next N")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--ratio", match.matching.max_ratio, "Lowe's ratio test on descriptor angles")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--max-error", match.verification.max_error, "RANSAC inlier threshold (px)")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--min-inliers", match.verification.min_num_inliers,
                     "fewer inliers: the pair is not verified")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--threads", match.num_threads, "worker threads (0: all cores)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--seed", match.seed, "random seed")->capture_default_str();
     cmd->callback([&match] { varsfm::RunMatching(match); });
   }
@@ -167,11 +188,14 @@ int main(int argc, char** argv) {
     cmd->add_option("input", run.input, "folder of photos, or a video file")->required();
     cmd->add_option("output", run.output, "output folder")->required();
     cmd->add_option("--matching", run.matching, "auto|exhaustive|sequential")
-        ->capture_default_str()->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"auto", "exhaustive", "sequential"}));
     cmd->add_option("--max-features", run.extract.sift.max_features, "strongest features kept")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--until", run.until, "last stage: sparse | dense | mesh | texture")
-        ->capture_default_str()->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
     AddMapperOptions(cmd, &run.map);
     cmd->callback([&run] { varsfm::RunAll(run); });
   }
@@ -195,22 +219,25 @@ int main(int argc, char** argv) {
     cmd->add_option("--inlier-threshold", evaluate.evaluation.alignment.inlier_threshold,
                     "robust alignment: centres farther than this (GT units) are outliers "
                     "(0: least squares over all)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
-    cmd->callback([&evaluate] {
-      std::fputs(varsfm::RunEvaluateCommand(evaluate).c_str(), stdout);
-    });
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
+    cmd->callback(
+        [&evaluate] { std::fputs(varsfm::RunEvaluateCommand(evaluate).c_str(), stdout); });
   }
 
   // demo: a rendered synthetic scene with a zooming camera, reconstructed and evaluated.
   varsfm::DemoOptions demo;
   {
-    CLI::App* cmd = app.add_subcommand("demo", "reconstruct a built-in synthetic scene and score it");
+    CLI::App* cmd =
+        app.add_subcommand("demo", "reconstruct a built-in synthetic scene and score it");
     cmd->add_option("--output", demo.output, "output folder")->required();
     cmd->add_option("--images", demo.scene.num_images, "images to render")
-        ->capture_default_str()->check(CLI::Range(3, 200));
+        ->capture_default_str()
+        ->check(CLI::Range(3, 200));
     cmd->add_option("--seed", demo.scene.seed, "scene seed")->capture_default_str();
     cmd->add_option("--until", demo.run.until, "last stage: sparse | dense | mesh | texture")
-        ->capture_default_str()->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
     cmd->callback([&demo] { varsfm::RunDemo(demo); });
   }
 
@@ -223,13 +250,17 @@ int main(int argc, char** argv) {
     cmd->add_option("--images", densify.image_dir, "image folder")->required();
     cmd->add_option("--output", densify.output, "output folder (dense.ply)")->required();
     cmd->add_option("--max-image-size", densify.dense.max_image_size, "matching image size")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--partners", densify.dense.max_partners, "partners per image")
-        ->capture_default_str()->check(CLI::Range(1, 10));
+        ->capture_default_str()
+        ->check(CLI::Range(1, 10));
     cmd->add_option("--min-zncc", densify.dense.propagation.min_zncc, "ZNCC threshold")
-        ->capture_default_str()->check(CLI::Range(-1.0, 1.0));
+        ->capture_default_str()
+        ->check(CLI::Range(-1.0, 1.0));
     cmd->add_option("--threads", densify.dense.num_threads, "threads (0: all cores)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&densify] { varsfm::RunDensify(densify); });
   }
 
@@ -245,10 +276,12 @@ int main(int argc, char** argv) {
            "poisson (default) | afront")
         ->check(CLI::IsMember({"poisson", "afront"}));
     cmd->add_option("--max-points", mesh.surface.max_points, "downsample above this many points")
-        ->capture_default_str()->check(CLI::PositiveNumber);
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--trim", mesh.surface.trim_factor,
                     "Poisson: drop faces farther than this x point spacing from the data (0: keep)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&mesh] { varsfm::RunMesh(mesh); });
   }
 
@@ -259,21 +292,25 @@ int main(int argc, char** argv) {
     cmd->add_option("--mesh", texture.mesh, "mesh PLY (mesh.ply)")->required();
     cmd->add_option("--sparse", texture.sparse, "sparse model folder (COLMAP)")->required();
     cmd->add_option("--images", texture.image_dir, "image folder")->required();
-    cmd->add_option("--output", texture.output, "output folder (textured/, model.glb)")
-        ->required();
+    cmd->add_option("--output", texture.output, "output folder (textured/, model.glb)")->required();
     cmd->add_option("--smoothness", texture.texture.selection.smoothness,
                     "Potts weight grouping faces into charts (0: best image per face)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--depth-tolerance", texture.texture.selection.depth_tolerance,
                     "visibility: a face is occluded when the mesh is nearer by this fraction")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--min-cos", texture.texture.selection.min_cos_angle,
                     "faces seen more obliquely than acos(this) are not textured from a view")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_option("--padding", texture.texture.padding, "photo pixels kept around each chart")
-        ->capture_default_str()->check(CLI::Range(0, 64));
+        ->capture_default_str()
+        ->check(CLI::Range(0, 64));
     cmd->add_option("--threads", texture.texture.selection.num_threads, "threads (0: all cores)")
-        ->capture_default_str()->check(CLI::NonNegativeNumber);
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->callback([&texture] { varsfm::RunTexture(texture); });
   }
 

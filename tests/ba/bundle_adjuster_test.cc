@@ -384,6 +384,73 @@ TEST(BundleAdjuster, FocalPerImageRestSharedRecoversZoomAndDistortion) {
   EXPECT_NEAR(rec.CameraOf(1).params[Camera::kK2], 0.02, 0.01);
 }
 
+// The project's dense-Schur LM (the default up to 250 images) and Ceres' DENSE_SCHUR solve the
+// same model: from the same start they reach the same minimum, for a global adjustment with the
+// mapper's shared principal point and robust loss, a local one with constant images and held
+// long-track points, and a shared camera (pose blocks apart from the camera block).
+class NativeSolver : public ::testing::TestWithParam<int> {};
+
+TEST_P(NativeSolver, ReachesCeresMinimum) {
+  const SyntheticScene scene = GenerateSyntheticScene(ZoomScene(21));
+  Reconstruction start = ReconstructionFromSynthetic(scene);
+  BundleAdjustmentConfig config = BundleAdjustmentConfig::Global(start);
+  BundleAdjustmentOptions options;
+  options.function_tolerance = 1e-10;  // both run to the minimum
+  options.gradient_tolerance = 1e-10;
+  options.parameter_tolerance = 1e-10;
+  if (GetParam() == 0) {
+    Perturb(&start, 21);
+    options.intrinsics.refine_principal_point = true;
+    options.intrinsics.shared_per_size = {Camera::kU0, Camera::kV0};
+  } else if (GetParam() == 1) {
+    const std::vector<image_t> variable = {7, 8, 9};
+    Perturb(&start, 22, {variable.begin(), variable.end()});
+    config = BundleAdjustmentConfig::Local(start, variable, 6);
+    ASSERT_FALSE(config.constant_points.empty());
+  } else {
+    for (const image_t id : start.RegisteredImageIds()) start.image(id).camera_id = 1;
+    start.camera(1).focal() *= 1.05;
+    options.max_iterations = 25;  // both crawl on to 100 iterations along the same path
+  }
+  Reconstruction native = start, ceres = start;
+  options.solver = BundleAdjustmentOptions::Solver::kNativeDenseSchur;
+  const BundleAdjustmentSummary a = RunBundleAdjustment(options, config, &native);
+  options.solver = BundleAdjustmentOptions::Solver::kDenseSchur;
+  const BundleAdjustmentSummary b = RunBundleAdjustment(options, config, &ceres);
+  ASSERT_TRUE(a.success) << a.report;
+  ASSERT_TRUE(b.success) << b.report;
+  EXPECT_EQ(a.solver, "NATIVE_DENSE_SCHUR");
+  EXPECT_LT(a.final_rms_px, a.initial_rms_px);
+  EXPECT_NEAR(a.final_rms_px, b.final_rms_px, 1e-6 * b.final_rms_px);
+  std::printf("native %.3f s: %s\nCeres %.3f s: %s\n", a.seconds, a.report.c_str(), b.seconds,
+              b.report.c_str());
+  for (const image_t id : start.RegisteredImageIds()) {
+    // Within the solvers' stopping slack: 1e-6 of a focal length, 1e-3 px, 1e-5 of the orbit
+    // radius (5; the zoom-distance valley of a global adjustment is flat).
+    EXPECT_NEAR(native.CameraOf(id).focal(), ceres.CameraOf(id).focal(),
+                1e-6 * ceres.CameraOf(id).focal())
+        << id;
+    EXPECT_NEAR(native.CameraOf(id).params[Camera::kU0], ceres.CameraOf(id).params[Camera::kU0],
+                1e-3)
+        << id;
+    EXPECT_LT((native.image(id).Center() - ceres.image(id).Center()).norm(), 5e-5) << id;
+  }
+  // Reproducible bit for bit.
+  Reconstruction again = start;
+  options.solver = BundleAdjustmentOptions::Solver::kNativeDenseSchur;
+  RunBundleAdjustment(options, config, &again);
+  for (const auto& [id, point] : native.points3D())
+    ASSERT_TRUE(SameBits(point.xyz.data(), again.point3D(id).xyz.data(), 3)) << id;
+}
+
+std::string NativeSolverProblemName(const ::testing::TestParamInfo<int>& info) {
+  static const char* const kNames[] = {"GlobalSharedPrincipalPoint", "LocalWithHeldPoints",
+                                       "SharedCamera"};
+  return kNames[info.param];
+}
+INSTANTIATE_TEST_SUITE_P(Problems, NativeSolver, ::testing::Values(0, 1, 2),
+                         NativeSolverProblemName);
+
 TEST(BundleAdjuster, EmptyConfigIsNotASuccess) {
   Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(ZoomScene()));
   EXPECT_FALSE(RunBundleAdjustment({}, BundleAdjustmentConfig{}, &rec).success);

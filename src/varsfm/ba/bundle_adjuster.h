@@ -66,6 +66,9 @@ struct BundleAdjustmentOptions {
     kSparseSchurSuiteSparse,
     kSparseSchurEigen,
     kIterativeSchur,
+    // The project's own Levenberg-Marquardt with a dense Schur complement (dense_schur_solver.h):
+    // the same model and reduced system as kDenseSchur without Ceres' per-block overhead.
+    kNativeDenseSchur,
   };
 
   // Cauchy by default: on inlier-only data it reaches the same noise floor and focal accuracy

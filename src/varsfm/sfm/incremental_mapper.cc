@@ -665,6 +665,7 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
   ba.solver = options_.ba_solver;
   ba.max_iterations = 25;  // as COLMAP's local BA: the global ones finish the job
   ba.function_tolerance = options_.local_ba_function_tolerance;
+  ba.verbose = spdlog::should_log(spdlog::level::trace);
   const auto ba_summary = RunBundleAdjustment(
       ba, BundleAdjustmentConfig::Local(*rec, window, options_.local_ba_max_track_length), rec);
   debug("local BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",

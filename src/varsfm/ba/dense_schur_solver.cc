@@ -1,0 +1,570 @@
+#include "varsfm/ba/dense_schur_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using MapRowMatrix = Eigen::Map<RowMatrix>;
+using Matrix3 = Eigen::Matrix3d;
+
+// Ceres' defaults (solver.h): LM diagonal bounds, trust-region bounds, step acceptance.
+constexpr double kMinDiagonal = 1e-6;
+constexpr double kMaxDiagonal = 1e32;
+constexpr double kMaxRadius = 1e16;
+constexpr double kMinRadius = 1e-32;
+constexpr double kMinRelativeDecrease = 1e-3;
+
+double ClampDiagonal(double d) { return std::clamp(d, kMinDiagonal, kMaxDiagonal); }
+
+// out(j, c) += sum_i A(i, j) B(i, c) for row-major A (n x ta) and B (n x tb); out column-major
+// with leading dimension ld. Two rows (a reprojection residual) written out: the compiler
+// vectorises the contiguous inner loop.
+inline void AddTransposeProduct(const double* __restrict A, int ta, const double* __restrict B,
+                                int tb, int n, double* __restrict out, int ld) {
+  if (n == 2) {
+    const double* A1 = A + ta;
+    const double* B1 = B + tb;
+    for (int c = 0; c < tb; ++c) {
+      const double b0 = B[c], b1 = B1[c];
+      double* o = out + static_cast<size_t>(c) * ld;
+      for (int j = 0; j < ta; ++j) o[j] += A[j] * b0 + A1[j] * b1;
+    }
+    return;
+  }
+  for (int c = 0; c < tb; ++c) {
+    double* o = out + static_cast<size_t>(c) * ld;
+    for (int i = 0; i < n; ++i) {
+      const double b = B[i * tb + c];
+      for (int j = 0; j < ta; ++j) o[j] += A[i * ta + j] * b;
+    }
+  }
+}
+
+// A non-zero of a manifold's plus-Jacobian: a product of subsets and rotations is mostly zeros
+// (the 14 x 9 Jacobian of an image block has 18 non-zeros).
+struct PlusEntry {
+  int row = 0;
+  int col = 0;
+  double value = 0.0;
+};
+
+// A variable parameter block: either a column range of the reduced system or an eliminated
+// point.
+struct Block {
+  double* x = nullptr;
+  int size = 0;
+  int tangent = 0;
+  const ceres::Manifold* manifold = nullptr;  // null: Euclidean
+  int column = -1;                            // first column in the reduced system
+  int point = -1;                             // index of the eliminated point
+  RowMatrix plus_jacobian;                    // size x tangent at x (manifold blocks only)
+  std::vector<PlusEntry> plus_entries;        // its non-zeros
+};
+
+// One (non-eliminated block, point) pair of the Schur complement: W = sum J_b^T J_p over the
+// residuals of the point that involve the block, stored column-major tangent_b x 3 at `offset`.
+struct Coupling {
+  int block = 0;
+  size_t offset = 0;
+};
+
+// A residual block; its parameter blocks are entries [begin, begin + count) of the flat arrays
+// (one allocation for all residuals: the per-residual walk is memory-bound).
+struct Residual {
+  const ceres::CostFunction* cost = nullptr;
+  const ceres::LossFunction* loss = nullptr;
+  int begin = 0;
+  int count = 0;
+  int point_parameter = -1;  // which parameter block is the eliminated point, if any
+};
+
+class DenseSchurProblem {
+ public:
+  DenseSchurProblem(const std::vector<double*>& eliminate, ceres::Problem* problem) {
+    std::vector<ceres::ResidualBlockId> ids;
+    problem->GetResidualBlocks(&ids);
+    residuals_.resize(ids.size());
+    std::vector<double*> parameters;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      Residual& r = residuals_[i];
+      r.cost = problem->GetCostFunctionForResidualBlock(ids[i]);
+      r.loss = problem->GetLossFunctionForResidualBlock(ids[i]);
+      problem->GetParameterBlocksForResidualBlock(ids[i], &parameters);
+      r.begin = static_cast<int>(values_.size());
+      r.count = static_cast<int>(parameters.size());
+      values_.insert(values_.end(), parameters.begin(), parameters.end());
+      max_residuals_ = std::max(max_residuals_, r.cost->num_residuals());
+      max_parameters_ = std::max(max_parameters_, r.count);
+    }
+    // The distinct parameter blocks in address order (Ceres is asked about each once); the
+    // variable ones become blocks: columns first, then points.
+    std::vector<double*> sorted_eliminate(eliminate);
+    std::sort(sorted_eliminate.begin(), sorted_eliminate.end());
+    std::vector<double*> distinct(values_);
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    std::vector<int> block_of_distinct(distinct.size(), -1);
+    for (const bool points : {false, true}) {
+      for (size_t i = 0; i < distinct.size(); ++i) {
+        double* x = distinct[i];
+        max_block_size_ = std::max(max_block_size_, problem->ParameterBlockSize(x));
+        if (std::binary_search(sorted_eliminate.begin(), sorted_eliminate.end(), x) != points ||
+            problem->IsParameterBlockConstant(x) || problem->ParameterBlockTangentSize(x) == 0)
+          continue;
+        Block b;
+        b.x = x;
+        b.size = problem->ParameterBlockSize(x);
+        b.tangent = problem->ParameterBlockTangentSize(x);
+        b.manifold = problem->GetManifold(x);
+        if (points) {
+          b.point = num_points_++;
+        } else {
+          b.column = num_columns_;
+          num_columns_ += b.tangent;
+        }
+        block_of_distinct[i] = static_cast<int>(blocks_.size());
+        blocks_.push_back(std::move(b));
+      }
+    }
+    block_of_.resize(values_.size());
+    for (size_t k = 0; k < values_.size(); ++k)
+      block_of_[k] =
+          block_of_distinct[std::lower_bound(distinct.begin(), distinct.end(), values_[k]) -
+                            distinct.begin()];
+    // The couplings (point, block), grouped by point and in column order within a point.
+    std::vector<std::pair<int, int>> pairs;
+    for (Residual& r : residuals_) {
+      for (int k = 0; k < r.count; ++k)
+        if (block_of_[r.begin + k] >= 0 && blocks_[block_of_[r.begin + k]].point >= 0)
+          r.point_parameter = k;
+      if (r.point_parameter < 0) continue;
+      const int point = blocks_[block_of_[r.begin + r.point_parameter]].point;
+      for (int k = 0; k < r.count; ++k)
+        if (k != r.point_parameter && block_of_[r.begin + k] >= 0)
+          pairs.emplace_back(point, block_of_[r.begin + k]);
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    point_couplings_begin_.assign(num_points_ + 1, static_cast<int>(pairs.size()));
+    size_t offset = 0;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (i == 0 || pairs[i].first != pairs[i - 1].first)
+        point_couplings_begin_[pairs[i].first] = static_cast<int>(i);
+      couplings_.push_back({pairs[i].second, offset});
+      offset += 3 * blocks_[pairs[i].second].tangent;
+    }
+    for (int p = num_points_ - 1; p >= 0; --p)  // points without couplings: empty ranges
+      point_couplings_begin_[p] =
+          std::min(point_couplings_begin_[p], point_couplings_begin_[p + 1]);
+    coupling_of_.assign(values_.size(), -1);
+    for (const Residual& r : residuals_) {
+      if (r.point_parameter < 0) continue;
+      const int point = blocks_[block_of_[r.begin + r.point_parameter]].point;
+      const auto first = pairs.begin() + point_couplings_begin_[point];
+      const auto last = pairs.begin() + point_couplings_begin_[point + 1];
+      for (int k = 0; k < r.count; ++k)
+        if (k != r.point_parameter && block_of_[r.begin + k] >= 0)
+          coupling_of_[r.begin + k] = static_cast<int>(
+              std::lower_bound(first, last, std::pair{point, block_of_[r.begin + k]}) -
+              pairs.begin());
+    }
+    w_.resize(offset);
+    s_.resize(num_columns_, num_columns_);
+    g_c_.resize(num_columns_);
+    v_.resize(num_points_);
+    v_inverse_.resize(num_points_);
+    g_p_.resize(num_points_);
+    for (const Block& b : blocks_) num_parameters_ += b.size;
+  }
+
+  int num_columns() const { return num_columns_; }
+  int num_points() const { return num_points_; }
+
+  // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
+  // equations' blocks (S, W, V, g) of the loss-corrected Jacobian. False when a cost function
+  // fails. The products are plain loops: the blocks are a few parameters wide, where Eigen's
+  // dynamic-size expressions cost more than the arithmetic (they took 40 % of the solver's time).
+  bool Evaluate(bool linearise, double* cost) {
+    if (linearise) {
+      for (Block& b : blocks_)
+        if (!UpdatePlusJacobian(&b)) return false;
+      s_.setZero();
+      g_c_.setZero();
+      std::fill(w_.begin(), w_.end(), 0.0);
+      for (int p = 0; p < num_points_; ++p) v_[p].setZero(), g_p_[p].setZero();
+    }
+    const int max_params = max_parameters_;
+    std::vector<double> r(max_residuals_);
+    std::vector<std::vector<double>> raw(max_params), tangent(max_params);
+    std::vector<double*> jacobians(max_params, nullptr);
+    if (linearise)
+      for (int k = 0; k < max_params; ++k) {
+        raw[k].resize(max_residuals_ * max_block_size_);
+        tangent[k].resize(max_residuals_ * max_block_size_);
+      }
+    const int ld = num_columns_;  // s_ is column-major
+    double* S = s_.data();
+    double total = 0.0;
+    for (size_t i = 0; i < residuals_.size(); ++i) {
+      const Residual& res = residuals_[i];
+      if (i + 1 < residuals_.size()) __builtin_prefetch(residuals_[i + 1].cost);
+      const int n = res.cost->num_residuals();
+      const int num_params = res.count;
+      const int* block_of = &block_of_[res.begin];
+      for (int k = 0; k < num_params; ++k)
+        jacobians[k] = linearise && block_of[k] >= 0 ? raw[k].data() : nullptr;
+      if (!res.cost->Evaluate(&values_[res.begin], r.data(),
+                              linearise ? jacobians.data() : nullptr))
+        return false;
+      double squared = 0.0;
+      for (int i = 0; i < n; ++i) squared += r[i] * r[i];
+      double rho[3] = {squared, 1.0, 0.0};
+      if (res.loss) res.loss->Evaluate(squared, rho);
+      total += 0.5 * rho[0];
+      if (!linearise) continue;
+
+      // The Jacobians in tangent coordinates (row-major n x tangent): J P, P sparse.
+      for (int k = 0; k < num_params; ++k) {
+        if (block_of[k] < 0) continue;
+        const Block& b = blocks_[block_of[k]];
+        const double* J = raw[k].data();
+        double* Jt = tangent[k].data();
+        if (!b.manifold) {
+          std::copy_n(J, n * b.size, Jt);
+          continue;
+        }
+        std::fill_n(Jt, n * b.tangent, 0.0);
+        for (const PlusEntry& e : b.plus_entries)
+          for (int i = 0; i < n; ++i) Jt[i * b.tangent + e.col] += J[i * b.size + e.row] * e.value;
+      }
+      // Triggs' correction (Ceres' Corrector): sqrt(rho') scales the residual and Jacobian,
+      // with a rank-one term when the loss is locally convex (rho'' > 0).
+      if (res.loss) {
+        const double sqrt_rho1 = std::sqrt(rho[1]);
+        double alpha = 0.0, residual_scaling = sqrt_rho1;
+        if (squared > 0.0 && rho[2] > 0.0) {
+          alpha = 1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
+          residual_scaling = sqrt_rho1 / (1.0 - alpha);
+        }
+        for (int k = 0; k < num_params; ++k) {
+          if (block_of[k] < 0) continue;
+          const int t = blocks_[block_of[k]].tangent;
+          double* Jt = tangent[k].data();
+          if (alpha != 0.0) {
+            for (int j = 0; j < t; ++j) {
+              double rJ = 0.0;
+              for (int i = 0; i < n; ++i) rJ += r[i] * Jt[i * t + j];
+              for (int i = 0; i < n; ++i) Jt[i * t + j] -= (alpha / squared) * r[i] * rJ;
+            }
+          }
+          for (int i = 0; i < n * t; ++i) Jt[i] *= sqrt_rho1;
+        }
+        for (int i = 0; i < n; ++i) r[i] *= residual_scaling;
+      }
+      // Accumulate J^T J and J^T r: block pairs into S (upper triangle), the point's V and
+      // g_p, the couplings W.
+      const int pk = res.point_parameter;
+      const double* Jp = pk >= 0 ? tangent[pk].data() : nullptr;
+      for (int a = 0; a < num_params; ++a) {
+        if (block_of[a] < 0) continue;
+        const Block& ba = blocks_[block_of[a]];
+        const int ta = ba.tangent;
+        const double* Ja = tangent[a].data();
+        double* g = a == pk ? g_p_[ba.point].data() : g_c_.data() + ba.column;
+        AddTransposeProduct(Ja, ta, r.data(), 1, n, g, 1);
+        if (a == pk) {
+          AddTransposeProduct(Ja, 3, Ja, 3, n, v_[ba.point].data(), 3);  // column-major 3 x 3
+          continue;
+        }
+        for (int b = 0; b < num_params; ++b) {
+          if (b == pk || block_of[b] < 0) continue;
+          const Block& bb = blocks_[block_of[b]];
+          if (bb.column < ba.column) continue;
+          AddTransposeProduct(Ja, ta, tangent[b].data(), bb.tangent, n,
+                              S + static_cast<size_t>(bb.column) * ld + ba.column, ld);
+        }
+        if (Jp)  // W: column-major ta x 3
+          AddTransposeProduct(Ja, ta, Jp, 3, n, &w_[couplings_[coupling_of_[res.begin + a]].offset],
+                              ta);
+      }
+    }
+    *cost = total;
+    return true;
+  }
+
+  // The max-norm of the gradient J^T r (tangent coordinates).
+  double GradientMaxNorm() const {
+    double m = num_columns_ > 0 ? g_c_.cwiseAbs().maxCoeff() : 0.0;
+    for (const Eigen::Vector3d& g : g_p_) m = std::max(m, g.cwiseAbs().maxCoeff());
+    return m;
+  }
+
+  // Solves (J^T J + mu D) delta = -J^T r through the Schur complement of the points. Returns
+  // false when the reduced system is not positive definite. `model_decrease` is the decrease of
+  // the linearised cost, -1/2 g^T delta + 1/2 mu delta^T D delta (from the damped equations).
+  bool SolveStep(double mu, double* model_decrease, double* step_norm) {
+    Eigen::MatrixXd s = s_;
+    Eigen::VectorXd rhs = -g_c_;
+    double dDd = 0.0;
+    for (int i = 0; i < num_columns_; ++i) s(i, i) += mu * ClampDiagonal(s_(i, i));
+    std::vector<double> t;  // W_a V^-1 for the couplings of one point, each tangent_a x 3
+    for (int p = 0; p < num_points_; ++p) {
+      Matrix3 v = v_[p];
+      for (int i = 0; i < 3; ++i) v(i, i) += mu * ClampDiagonal(v_[p](i, i));
+      Eigen::LDLT<Matrix3> ldlt(v);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+      v_inverse_[p] = ldlt.solve(Matrix3::Identity());
+      const int begin = point_couplings_begin_[p], end = point_couplings_begin_[p + 1];
+      // W's of one point are stored contiguously: W V^-1 goes to t at the same offsets.
+      const size_t base = end > begin ? couplings_[begin].offset : 0;
+      const size_t end_offset =
+          end > begin ? couplings_[end - 1].offset + 3 * blocks_[couplings_[end - 1].block].tangent
+                      : base;
+      t.resize(end_offset - base);
+      const Matrix3& vi = v_inverse_[p];
+      const Eigen::Vector3d& gp = g_p_[p];
+      for (int a = begin; a < end; ++a) {  // T = W V^-1, column-major ta x 3 like W
+        const int ta = blocks_[couplings_[a].block].tangent;
+        const int column = blocks_[couplings_[a].block].column;
+        const double* __restrict W = &w_[couplings_[a].offset];
+        double* __restrict T = &t[couplings_[a].offset - base];
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < ta; ++j)
+            T[c * ta + j] = W[j] * vi(0, c) + W[ta + j] * vi(1, c) + W[2 * ta + j] * vi(2, c);
+        for (int j = 0; j < ta; ++j)
+          rhs[column + j] += T[j] * gp[0] + T[ta + j] * gp[1] + T[2 * ta + j] * gp[2];
+      }
+      for (int a = begin; a < end; ++a) {  // S_ab -= T_a W_b^T
+        const Block& ba = blocks_[couplings_[a].block];
+        const int ta = ba.tangent;
+        const double* __restrict T = &t[couplings_[a].offset - base];
+        for (int b = begin; b < end; ++b) {
+          const Block& bb = blocks_[couplings_[b].block];
+          if (bb.column < ba.column) continue;
+          const int tb = bb.tangent;
+          const double* __restrict Wb = &w_[couplings_[b].offset];
+          for (int c = 0; c < tb; ++c) {
+            const double w0 = Wb[c], w1 = Wb[tb + c], w2 = Wb[2 * tb + c];
+            double* __restrict out =
+                s.data() + static_cast<size_t>(bb.column + c) * num_columns_ + ba.column;
+            for (int j = 0; j < ta; ++j) out[j] -= T[j] * w0 + T[ta + j] * w1 + T[2 * ta + j] * w2;
+          }
+        }
+      }
+    }
+    // Jacobi scaling of the reduced system, then Cholesky of its upper triangle.
+    Eigen::VectorXd scale(num_columns_);
+    for (int i = 0; i < num_columns_; ++i) scale[i] = 1.0 / std::sqrt(std::max(s(i, i), 1e-300));
+    delta_c_.resize(num_columns_);
+    if (num_columns_ > 0) {
+      for (int j = 0; j < num_columns_; ++j)
+        for (int i = 0; i <= j; ++i) s(i, j) *= scale[i] * scale[j];
+      const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+      if (llt.info() != Eigen::Success) return false;
+      delta_c_ = scale.asDiagonal() * llt.solve(scale.asDiagonal() * rhs);
+      if (!delta_c_.allFinite()) return false;
+      for (int i = 0; i < num_columns_; ++i)
+        dDd += ClampDiagonal(s_(i, i)) * delta_c_[i] * delta_c_[i];
+    }
+    double g_delta = g_c_.dot(delta_c_);
+    delta_p_.resize(num_points_);
+    for (int p = 0; p < num_points_; ++p) {
+      Eigen::Vector3d b = -g_p_[p];
+      for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
+        const Block& ba = blocks_[couplings_[a].block];
+        const double* W = &w_[couplings_[a].offset];  // column-major tangent x 3
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < ba.tangent; ++j)
+            b[c] -= W[c * ba.tangent + j] * delta_c_[ba.column + j];
+      }
+      delta_p_[p] = v_inverse_[p] * b;
+      if (!delta_p_[p].allFinite()) return false;
+      g_delta += g_p_[p].dot(delta_p_[p]);
+      for (int i = 0; i < 3; ++i)
+        dDd += ClampDiagonal(v_[p](i, i)) * delta_p_[p][i] * delta_p_[p][i];
+    }
+    *model_decrease = -0.5 * g_delta + 0.5 * mu * dDd;
+    double norm2 = delta_c_.squaredNorm();
+    for (const Eigen::Vector3d& d : delta_p_) norm2 += d.squaredNorm();
+    *step_norm = std::sqrt(norm2);
+    return true;
+  }
+
+  // x <- x [+] delta, keeping the previous values for Restore(). False when a manifold fails.
+  bool Step() {
+    backup_.resize(num_parameters_);
+    double* saved = backup_.data();
+    std::vector<double> moved;
+    for (const Block& b : blocks_) {
+      std::copy_n(b.x, b.size, saved);
+      const double* delta = b.column >= 0 ? delta_c_.data() + b.column : delta_p_[b.point].data();
+      if (b.manifold) {
+        moved.resize(b.size);
+        if (!b.manifold->Plus(saved, delta, moved.data())) return Restore(), false;
+        std::copy(moved.begin(), moved.end(), b.x);
+      } else {
+        for (int i = 0; i < b.size; ++i) b.x[i] = saved[i] + delta[i];
+      }
+      saved += b.size;
+    }
+    return true;
+  }
+
+  void Restore() {
+    const double* saved = backup_.data();
+    for (const Block& b : blocks_) {
+      std::copy_n(saved, b.size, b.x);
+      saved += b.size;
+    }
+  }
+
+  double ParameterNorm() const {
+    double sum = 0.0;
+    for (const Block& b : blocks_)
+      for (int i = 0; i < b.size; ++i) sum += b.x[i] * b.x[i];
+    return std::sqrt(sum);
+  }
+
+ private:
+  static bool UpdatePlusJacobian(Block* b) {
+    if (!b->manifold) return true;
+    b->plus_jacobian.resize(b->size, b->tangent);
+    if (!b->manifold->PlusJacobian(b->x, b->plus_jacobian.data())) return false;
+    b->plus_entries.clear();
+    for (int row = 0; row < b->size; ++row)
+      for (int col = 0; col < b->tangent; ++col)
+        if (const double v = b->plus_jacobian(row, col); v != 0.0)
+          b->plus_entries.push_back({row, col, v});
+    return true;
+  }
+
+  std::vector<Block> blocks_;
+  std::vector<Residual> residuals_;
+  std::vector<double*> values_;   // per residual parameter: the cost function's block
+  std::vector<int> block_of_;     // its index in blocks_, -1 when constant
+  std::vector<int> coupling_of_;  // its coupling with the residual's point, -1 when none
+  std::vector<Coupling> couplings_;
+  std::vector<int> point_couplings_begin_;
+  int num_columns_ = 0;
+  int num_points_ = 0;
+  int num_parameters_ = 0;
+  int max_residuals_ = 0;
+  int max_parameters_ = 0;
+  int max_block_size_ = 0;
+  // Normal equations at the current parameters (undamped).
+  Eigen::MatrixXd s_;  // upper triangle
+  Eigen::VectorXd g_c_;
+  std::vector<double> w_;
+  std::vector<Matrix3> v_;
+  std::vector<Eigen::Vector3d> g_p_;
+  // The last step.
+  std::vector<Matrix3> v_inverse_;
+  Eigen::VectorXd delta_c_;
+  std::vector<Eigen::Vector3d> delta_p_;
+  std::vector<double> backup_;
+};
+
+}  // namespace
+
+DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
+                                      const std::vector<double*>& eliminate,
+                                      ceres::Problem* problem) {
+  DenseSchurSummary summary;
+  Timer timer;
+  DenseSchurProblem dense(eliminate, problem);
+  summary.seconds_setup = timer.Seconds();
+  double cost = 0.0;
+  const auto linearise = [&] {
+    const Timer t;
+    const bool ok = dense.Evaluate(/*linearise=*/true, &cost);
+    summary.seconds_linearise += t.Seconds();
+    return ok;
+  };
+  if (!linearise()) {
+    summary.message = "a cost function failed at the initial parameters";
+    return summary;
+  }
+  summary.usable = true;
+  summary.initial_cost = summary.final_cost = cost;
+  double radius = options.initial_trust_region_radius;
+  double decrease_factor = 2.0;
+  while (true) {
+    if (dense.GradientMaxNorm() <= options.gradient_tolerance) {
+      summary.converged = true;
+      summary.message = "gradient tolerance reached";
+      break;
+    }
+    if (summary.successful_steps + summary.unsuccessful_steps >= options.max_iterations) {
+      summary.message = "maximum number of iterations reached";
+      break;
+    }
+    const double mu = 1.0 / radius;
+    double model_decrease = 0.0, step_norm = 0.0;
+    bool accepted = false;
+    double new_cost = cost;
+    Timer solve_timer;
+    const bool solved = dense.SolveStep(mu, &model_decrease, &step_norm);
+    summary.seconds_solve += solve_timer.Seconds();
+    if (solved) {
+      const double x_norm = dense.ParameterNorm();
+      if (step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
+        summary.converged = true;
+        summary.message = "parameter tolerance reached";
+        break;
+      }
+      if (model_decrease > 0.0 && dense.Step()) {
+        const Timer t;
+        const bool evaluated = dense.Evaluate(/*linearise=*/false, &new_cost);
+        summary.seconds_residuals += t.Seconds();
+        if (evaluated && std::isfinite(new_cost)) {
+          const double rho = (cost - new_cost) / model_decrease;
+          accepted = rho > kMinRelativeDecrease;
+          if (accepted)
+            radius = std::min(kMaxRadius,
+                              radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+        }
+        if (!accepted) dense.Restore();
+      }
+    }
+    if (!accepted) {
+      ++summary.unsuccessful_steps;
+      radius /= decrease_factor;
+      decrease_factor *= 2.0;
+      if (radius < kMinRadius) {
+        summary.converged = true;
+        summary.message = "trust region radius below its minimum";
+        break;
+      }
+      continue;
+    }
+    ++summary.successful_steps;
+    decrease_factor = 2.0;
+    const double relative_change = (cost - new_cost) / cost;
+    cost = new_cost;
+    summary.final_cost = cost;
+    if (relative_change <= options.function_tolerance) {
+      summary.converged = true;
+      summary.message = "function tolerance reached";
+      break;
+    }
+    if (!linearise()) {
+      summary.message = "a cost function failed";
+      break;
+    }
+  }
+  return summary;
+}
+
+}  // namespace varsfm

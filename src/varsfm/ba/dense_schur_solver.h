@@ -1,0 +1,68 @@
+#pragma once
+// Levenberg-Marquardt with a dense Schur complement, for bundle-adjustment problems of up to a few
+// hundred images: the project's own solver for the problems Ceres spends most of its time on
+// bookkeeping for. It solves a ceres::Problem as it is built (cost functions, loss functions and
+// manifolds through their public interfaces), so the model is defined once and either solver
+// runs it; Ceres stays the reference (tests/ba/dense_schur_solver_test.cc) and the solver for
+// large, sparse problems.
+//
+// Why: Ceres' program evaluator and Schur eliminator are general (parameter-block indirection,
+// manifold products through dynamic-size matrices, a dynamic f-block size once a problem mixes
+// image blocks with a shared principal-point block), and a mapper runs one small solve per
+// registered image. Measured against Ceres' DENSE_SCHUR on the same problems, same iterations
+// and minimum: fountain-P11's final global adjustment 0.78 s against 2.06 s; the figures are in
+// ChooseSolver (bundle_adjuster.cc) and bench/ba_bench.cc (BM_SmallBundleAdjustment).
+//
+// The algorithm is Ceres' LEVENBERG_MARQUARDT trust region (Madsen, Nielsen & Tingleff,
+// "Methods for non-linear least squares problems", 2004, sec. 3.2; Triggs et al., "Bundle
+// adjustment - a modern synthesis", 2000, sec. 6.1 for the Schur complement and sec. 3.3 for the
+// robust-loss correction):
+//   minimise 1/2 sum_i rho_i(|r_i(x)|^2) over x, every step solving
+//   (J^T J + mu D) delta = -J^T r,  D = diag(J^T J) clamped to [1e-6, 1e32],  mu = 1 / radius,
+// with the residuals and Jacobians of each block corrected for its loss (Triggs' eq. 11), the
+// points (the blocks to eliminate) removed by the Schur complement
+//   (S - W V^-1 W^T) delta_c = -g_c + W V^-1 g_p,   delta_p = V^-1 (-g_p - W^T delta_c),
+// the reduced system Jacobi-scaled and factorised by dense Cholesky, and the radius updated from
+// the ratio of actual to predicted decrease as Ceres does (x 1 / max(1/3, 1 - (2 rho - 1)^3) on
+// success, / 2, 4, 8... on failure).
+#include <string>
+#include <vector>
+
+#include <ceres/problem.h>
+
+namespace varsfm {
+
+struct DenseSchurOptions {
+  int max_iterations = 100;  // successful and unsuccessful steps together, as Ceres counts
+  double function_tolerance = 1e-6;
+  double gradient_tolerance = 1e-10;
+  double parameter_tolerance = 1e-8;
+  double initial_trust_region_radius = 1e4;
+};
+
+struct DenseSchurSummary {
+  bool usable = false;     // the parameters hold a solution at least as good as the start
+  bool converged = false;  // a tolerance was reached (not the iteration limit)
+  int successful_steps = 0;
+  int unsuccessful_steps = 0;
+  double initial_cost = 0.0;  // 1/2 sum rho(|r|^2), as Ceres reports it
+  double final_cost = 0.0;
+  std::string message;  // why it stopped
+  // Where the time went (s): building the solver's view of the problem, residuals and
+  // Jacobians with the normal equations' blocks, residuals only (trial steps), the reduced
+  // system's assembly and solution.
+  double seconds_setup = 0.0;
+  double seconds_linearise = 0.0;
+  double seconds_residuals = 0.0;
+  double seconds_solve = 0.0;
+};
+
+// Solves `problem` in place. `eliminate`: the parameter blocks removed by the Schur complement
+// (the 3D points; each residual block may hold at most one of them, and only blocks of size 3
+// can be eliminated); every other variable block enters the dense reduced system, in the order
+// of their addresses (the order Ceres gives a group of its elimination ordering).
+DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
+                                      const std::vector<double*>& eliminate,
+                                      ceres::Problem* problem);
+
+}  // namespace varsfm
