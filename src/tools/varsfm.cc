@@ -81,13 +81,15 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   static const std::map<std::string, Solver> kSolvers = {
       {"auto", Solver::kAuto},
       {"native", Solver::kNativeDenseSchur},
+      {"ceres", Solver::kCeresAuto},
       {"dense", Solver::kDenseSchur},
       {"sparse", Solver::kSparseSchurSuiteSparse},
       {"sparse-eigen", Solver::kSparseSchurEigen},
       {"iterative", Solver::kIterativeSchur}};
   cmd->add_option("--ba-solver", m.ba_solver,
                   "bundle adjustment solver: auto (by size) | native (varsfm's dense Schur LM) | "
-                  "dense | sparse | sparse-eigen | iterative (Ceres, Schur complement each)")
+                  "ceres (Ceres only, by size) | dense | sparse | sparse-eigen | iterative "
+                  "(Ceres, Schur complement each)")
       ->transform(CLI::CheckedTransformer(kSolvers, CLI::ignore_case));
   static const std::map<std::string, varsfm::IntrinsicsSharing> kSharing = {
       {"per-image", varsfm::IntrinsicsSharing::kPerImage},

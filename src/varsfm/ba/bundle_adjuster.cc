@@ -33,25 +33,38 @@ using Solver = BundleAdjustmentOptions::Solver;
 // On a sequence (bench/scale, 150 images 320x240, tracks of ~21 images) the final global BA of
 // 139 images took 13.0 s with DENSE_SCHUR and 22.6 s with SPARSE_SCHUR (SuiteSparse), the whole
 // mapper 61 s and 90 s: the Schur elimination dominates, and the dense reduced system (9
-// parameters per image here) is still cheap at that size. So: dense up to 250 images,
-// SuiteSparse beyond, where the dense factorisation grows as n^3 and the camera graph of an
-// incremental reconstruction is sparse; ITERATIVE_SCHUR only when a direct factorisation no
-// longer fits.
+// parameters per image here) is still cheap at that size. So, with Ceres (ChooseCeresSolver):
+// dense up to 250 images, SuiteSparse beyond, where the dense factorisation grows as n^3 and the
+// camera graph of an incremental reconstruction is sparse; ITERATIVE_SCHUR only when a direct
+// factorisation no longer fits.
 //
-// Up to that size the project's own dense-Schur Levenberg-Marquardt (dense_schur_solver.h)
-// replaces Ceres' DENSE_SCHUR, with the same iterations and minimum (tests/ba: NativeSolver) in
-// less time. Measured 2026-12-01 (2 cores, one thread): fountain-P11's final global adjustment
-// (11 images, 60,561 observations) 0.78 s (10 iterations) against 2.06 s (11), same RMS and
-// accuracy, whole mapper 3.7 s against 6.1 s; bench/ba_bench BM_SmallBundleAdjustment (10
-// images, 10,000 observations) 237 ms against 387 ms (median of 5); a local adjustment with held
-// points (tests/ba) 0.12 s against 0.42 s for the same 59 iterations.
+// Since 2026-12-01 the project's own Levenberg-Marquardt with the points' Schur complement
+// (dense_schur_solver.h: dense or, for a banded camera graph, sparse factorisation) replaces
+// Ceres' DENSE_SCHUR and SPARSE_SCHUR, with the same iterations and minimum (tests/ba:
+// NativeSolver, DenseSchurSolver) in less time. Measured 2026-12-01 (2 cores, one thread),
+// native against Ceres (`--ba-solver ceres`, the former choice):
+//   fountain-P11 final global adjustment (11 images, 60,561 observations) 0.78 s (10
+//   iterations) against 2.06 s (11), same RMS and accuracy; whole mapper 3.7 s against 6.1 s;
+//   bundler/ET whole mapper 0.54 s against 0.81-0.89 s (perf stat, 5 runs);
+//   bench/scale street sequence, 100 images: mapper 12.8 s against 17.1 s; 1000 images: 347 s
+//   against 451 s, the final global adjustment (1,185,742 observations, sparse) 143 s against
+//   226 s for 44 iterations each;
+//   bench/ba_bench BM_SmallBundleAdjustment (10 images, 10,000 observations) 237 ms against
+//   387 ms (median of 5).
+// Ceres' ITERATIVE_SCHUR stays for problems beyond 5000 images, where no direct factorisation
+// fits.
 Solver ChooseSolver(size_t num_images) {
-  if (num_images <= 250) return Solver::kNativeDenseSchur;
-  if (num_images <= 5000) {
+  if (num_images <= 5000) return Solver::kNativeDenseSchur;
+  return Solver::kIterativeSchur;
+}
+
+// Ceres' linear solver by size (kCeresAuto), as chosen before the native solver (see above).
+Solver ChooseCeresSolver(size_t num_images) {
+  if (num_images <= 250) return Solver::kDenseSchur;
+  if (num_images <= 5000)
     return ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE)
                ? Solver::kSparseSchurSuiteSparse
                : Solver::kSparseSchurEigen;
-  }
   return Solver::kIterativeSchur;
 }
 
@@ -75,6 +88,8 @@ std::string ConfigureLinearSolver(Solver solver, ceres::Solver::Options* options
       return "ITERATIVE_SCHUR (SCHUR_JACOBI)";
     case Solver::kNativeDenseSchur:
       return "NATIVE_DENSE_SCHUR";
+    case Solver::kCeresAuto:
+      break;  // resolved by ChooseSolver
   }
   return "";
 }
@@ -497,9 +512,9 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
                                    : std::max(1u, std::thread::hardware_concurrency());
   solver_options.minimizer_progress_to_stdout = options.verbose;
   solver_options.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-  const Solver solver = options.solver == Solver::kAuto
-                            ? ChooseSolver(config.variable_pose_images.size())
-                            : options.solver;
+  Solver solver = options.solver;
+  if (solver == Solver::kAuto) solver = ChooseSolver(config.variable_pose_images.size());
+  if (solver == Solver::kCeresAuto) solver = ChooseCeresSolver(config.variable_pose_images.size());
   result.solver = ConfigureLinearSolver(solver, &solver_options);
   // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
   // orders blocks by address, which the buffer makes the id order.
@@ -527,11 +542,12 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     result.success = summary.usable;
     result.iterations = summary.successful_steps + summary.unsuccessful_steps;
     result.report = fmt::format(
-        "native dense Schur LM: {} ({} + {} steps, cost {:.6e} -> {:.6e}; s: setup {:.4f}, "
+        "native Schur LM ({}): {} ({} + {} steps, cost {:.6e} -> {:.6e}; s: setup {:.4f}, "
         "linearise {:.4f}, residuals {:.4f}, solve {:.4f}; total {:.4f})",
-        summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
-        summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
-        summary.seconds_residuals, summary.seconds_solve, timer.Seconds());
+        summary.sparse ? "sparse" : "dense", summary.message, summary.successful_steps,
+        summary.unsuccessful_steps, summary.initial_cost, summary.final_cost, summary.seconds_setup,
+        summary.seconds_linearise, summary.seconds_residuals, summary.seconds_solve,
+        timer.Seconds());
   } else {
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);

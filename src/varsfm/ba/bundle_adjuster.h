@@ -66,9 +66,13 @@ struct BundleAdjustmentOptions {
     kSparseSchurSuiteSparse,
     kSparseSchurEigen,
     kIterativeSchur,
-    // The project's own Levenberg-Marquardt with a dense Schur complement (dense_schur_solver.h):
-    // the same model and reduced system as kDenseSchur without Ceres' per-block overhead.
+    // The project's own Levenberg-Marquardt with the Schur complement of the points
+    // (dense_schur_solver.h): the same model and reduced system as Ceres' DENSE_SCHUR /
+    // SPARSE_SCHUR without Ceres' per-block overhead. kAuto's choice up to 5000 images.
     kNativeDenseSchur,
+    // Ceres only, chosen by size (DENSE_SCHUR up to 250 images, SPARSE_SCHUR beyond): the
+    // reference the native solver is measured against.
+    kCeresAuto,
   };
 
   // Cauchy by default: on inlier-only data it reaches the same noise floor and focal accuracy

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
@@ -9,6 +10,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "varsfm/util/timer.h"
 
@@ -33,6 +36,13 @@ double ClampDiagonal(double d) { return std::clamp(d, kMinDiagonal, kMaxDiagonal
 // vectorises the contiguous inner loop.
 inline void AddTransposeProduct(const double* __restrict A, int ta, const double* __restrict B,
                                 int tb, int n, double* __restrict out, int ld) {
+  if (n == 2 && ta == 9 && tb == 9 && ld == 9) {  // two image blocks: the common case, unrolled
+    for (int c = 0; c < 9; ++c) {
+      const double b0 = B[c], b1 = B[9 + c];
+      for (int j = 0; j < 9; ++j) out[c * 9 + j] += A[j] * b0 + A[9 + j] * b1;
+    }
+    return;
+  }
   if (n == 2) {
     const double* A1 = A + ta;
     const double* B1 = B + tb;
@@ -49,6 +59,16 @@ inline void AddTransposeProduct(const double* __restrict A, int ta, const double
       const double b = B[i * tb + c];
       for (int j = 0; j < ta; ++j) o[j] += A[i * ta + j] * b;
     }
+  }
+}
+
+// out -= T W^T for T, W column-major 9 x 3 and out column-major 9 x 9 (a pair of image blocks
+// in the Schur complement, the solver's innermost loop).
+inline void SubtractSchurTerm9(const double* __restrict T, const double* __restrict W,
+                               double* __restrict out) {
+  for (int c = 0; c < 9; ++c) {
+    const double w0 = W[c], w1 = W[9 + c], w2 = W[18 + c];
+    for (int j = 0; j < 9; ++j) out[c * 9 + j] -= T[j] * w0 + T[9 + j] * w1 + T[18 + j] * w2;
   }
 }
 
@@ -92,7 +112,9 @@ struct Residual {
 
 class DenseSchurProblem {
  public:
-  DenseSchurProblem(const std::vector<double*>& eliminate, ceres::Problem* problem) {
+  DenseSchurProblem(const std::vector<double*>& eliminate,
+                    DenseSchurOptions::Factorization factorization, ceres::Problem* problem)
+      : factorization_(factorization) {
     std::vector<ceres::ResidualBlockId> ids;
     problem->GetResidualBlocks(&ids);
     residuals_.resize(ids.size());
@@ -181,7 +203,7 @@ class DenseSchurProblem {
               pairs.begin());
     }
     w_.resize(offset);
-    s_.resize(num_columns_, num_columns_);
+    BuildReducedStructure();
     g_c_.resize(num_columns_);
     v_.resize(num_points_);
     v_inverse_.resize(num_points_);
@@ -190,6 +212,7 @@ class DenseSchurProblem {
   }
 
   int num_columns() const { return num_columns_; }
+  bool sparse() const { return sparse_; }
   int num_points() const { return num_points_; }
 
   // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
@@ -200,7 +223,7 @@ class DenseSchurProblem {
     if (linearise) {
       for (Block& b : blocks_)
         if (!UpdatePlusJacobian(&b)) return false;
-      s_.setZero();
+      std::fill(s_blocks_.begin(), s_blocks_.end(), 0.0);
       g_c_.setZero();
       std::fill(w_.begin(), w_.end(), 0.0);
       for (int p = 0; p < num_points_; ++p) v_[p].setZero(), g_p_[p].setZero();
@@ -214,8 +237,6 @@ class DenseSchurProblem {
         raw[k].resize(max_residuals_ * max_block_size_);
         tangent[k].resize(max_residuals_ * max_block_size_);
       }
-    const int ld = num_columns_;  // s_ is column-major
-    double* S = s_.data();
     double total = 0.0;
     for (size_t i = 0; i < residuals_.size(); ++i) {
       const Residual& res = residuals_[i];
@@ -293,7 +314,7 @@ class DenseSchurProblem {
           const Block& bb = blocks_[block_of[b]];
           if (bb.column < ba.column) continue;
           AddTransposeProduct(Ja, ta, tangent[b].data(), bb.tangent, n,
-                              S + static_cast<size_t>(bb.column) * ld + ba.column, ld);
+                              &s_blocks_[PairOffset(block_of[a], block_of[b])], ta);
         }
         if (Jp)  // W: column-major ta x 3
           AddTransposeProduct(Ja, ta, Jp, 3, n, &w_[couplings_[coupling_of_[res.begin + a]].offset],
@@ -315,10 +336,14 @@ class DenseSchurProblem {
   // false when the reduced system is not positive definite. `model_decrease` is the decrease of
   // the linearised cost, -1/2 g^T delta + 1/2 mu delta^T D delta (from the damped equations).
   bool SolveStep(double mu, double* model_decrease, double* step_norm) {
-    Eigen::MatrixXd s = s_;
+    work_ = s_blocks_;
     Eigen::VectorXd rhs = -g_c_;
     double dDd = 0.0;
-    for (int i = 0; i < num_columns_; ++i) s(i, i) += mu * ClampDiagonal(s_(i, i));
+    for (int a = 0; a < num_column_blocks_; ++a) {  // damping of the diagonal blocks
+      const int ta = blocks_[a].tangent;
+      double* d = &work_[pair_offset_[pair_begin_[a]]];  // (a, a) is the first of its row
+      for (int i = 0; i < ta; ++i) d[i * ta + i] += mu * ClampDiagonal(d[i * ta + i]);
+    }
     std::vector<double> t;  // W_a V^-1 for the couplings of one point, each tangent_a x 3
     for (int p = 0; p < num_points_; ++p) {
       Matrix3 v = v_[p];
@@ -346,37 +371,66 @@ class DenseSchurProblem {
         for (int j = 0; j < ta; ++j)
           rhs[column + j] += T[j] * gp[0] + T[ta + j] * gp[1] + T[2 * ta + j] * gp[2];
       }
-      for (int a = begin; a < end; ++a) {  // S_ab -= T_a W_b^T
-        const Block& ba = blocks_[couplings_[a].block];
-        const int ta = ba.tangent;
+      // S_ab -= T_a W_b^T for a <= b. Couplings and each block row are in block order, so one
+      // walk along the row finds every b.
+      for (int a = begin; a < end; ++a) {
+        const int block_a = couplings_[a].block;
+        const int ta = blocks_[block_a].tangent;
         const double* __restrict T = &t[couplings_[a].offset - base];
-        for (int b = begin; b < end; ++b) {
-          const Block& bb = blocks_[couplings_[b].block];
-          if (bb.column < ba.column) continue;
-          const int tb = bb.tangent;
+        int k = pair_begin_[block_a];
+        for (int b = a; b < end; ++b) {
+          const int block_b = couplings_[b].block;
+          while (pair_block_[k] < block_b) ++k;
+          const int tb = blocks_[block_b].tangent;
           const double* __restrict Wb = &w_[couplings_[b].offset];
+          double* __restrict out = &work_[pair_offset_[k]];
+          if (ta == 9 && tb == 9) {  // two image blocks: the common case, unrolled
+            SubtractSchurTerm9(T, Wb, out);
+            continue;
+          }
           for (int c = 0; c < tb; ++c) {
             const double w0 = Wb[c], w1 = Wb[tb + c], w2 = Wb[2 * tb + c];
-            double* __restrict out =
-                s.data() + static_cast<size_t>(bb.column + c) * num_columns_ + ba.column;
-            for (int j = 0; j < ta; ++j) out[j] -= T[j] * w0 + T[ta + j] * w1 + T[2 * ta + j] * w2;
+            double* __restrict o = out + c * ta;
+            for (int j = 0; j < ta; ++j) o[j] -= T[j] * w0 + T[ta + j] * w1 + T[2 * ta + j] * w2;
           }
         }
       }
     }
-    // Jacobi scaling of the reduced system, then Cholesky of its upper triangle.
+    // Jacobi scaling of the reduced system, then Cholesky of its upper triangle (dense, or
+    // sparse for a sequence's banded camera graph).
     Eigen::VectorXd scale(num_columns_);
-    for (int i = 0; i < num_columns_; ++i) scale[i] = 1.0 / std::sqrt(std::max(s(i, i), 1e-300));
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      const int ta = blocks_[a].tangent;
+      const double* d = &work_[pair_offset_[pair_begin_[a]]];
+      for (int i = 0; i < ta; ++i)
+        scale[blocks_[a].column + i] = 1.0 / std::sqrt(std::max(d[i * ta + i], 1e-300));
+    }
     delta_c_.resize(num_columns_);
     if (num_columns_ > 0) {
-      for (int j = 0; j < num_columns_; ++j)
-        for (int i = 0; i <= j; ++i) s(i, j) *= scale[i] * scale[j];
-      const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
-      if (llt.info() != Eigen::Success) return false;
-      delta_c_ = scale.asDiagonal() * llt.solve(scale.asDiagonal() * rhs);
+      const Eigen::VectorXd scaled_rhs = scale.asDiagonal() * rhs;
+      Eigen::VectorXd y;
+      if (sparse_) {
+        FillSparse(scale);
+        sparse_llt_.factorize(sparse_s_);
+        if (sparse_llt_.info() != Eigen::Success) return false;
+        y = sparse_llt_.solve(scaled_rhs);
+      } else {
+        Eigen::MatrixXd s = Eigen::MatrixXd::Zero(num_columns_, num_columns_);
+        FillDense(scale, &s);
+        const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+        if (llt.info() != Eigen::Success) return false;
+        y = llt.solve(scaled_rhs);
+      }
+      delta_c_ = scale.asDiagonal() * y;
       if (!delta_c_.allFinite()) return false;
-      for (int i = 0; i < num_columns_; ++i)
-        dDd += ClampDiagonal(s_(i, i)) * delta_c_[i] * delta_c_[i];
+      for (int a = 0; a < num_column_blocks_; ++a) {
+        const int ta = blocks_[a].tangent;
+        const double* d = &s_blocks_[pair_offset_[pair_begin_[a]]];
+        for (int i = 0; i < ta; ++i) {
+          const double x = delta_c_[blocks_[a].column + i];
+          dDd += ClampDiagonal(d[i * ta + i]) * x * x;
+        }
+      }
     }
     double g_delta = g_c_.dot(delta_c_);
     delta_p_.resize(num_points_);
@@ -438,6 +492,128 @@ class DenseSchurProblem {
   }
 
  private:
+  // The reduced system's block structure: block (a, b), a <= b, exists when a residual or a
+  // point involves both; each block row is sorted, its diagonal block first. The system is
+  // factorised sparse when it has many columns and few blocks (a sequence: each image shares
+  // points with its neighbours only), dense otherwise.
+  void BuildReducedStructure() {
+    num_column_blocks_ = 0;
+    while (num_column_blocks_ < static_cast<int>(blocks_.size()) &&
+           blocks_[num_column_blocks_].column >= 0)
+      ++num_column_blocks_;
+    std::vector<std::vector<int>> rows(num_column_blocks_);
+    for (int a = 0; a < num_column_blocks_; ++a) rows[a].push_back(a);
+    for (const Residual& r : residuals_)
+      for (int i = 0; i < r.count; ++i)
+        for (int j = 0; j < r.count; ++j) {
+          const int a = block_of_[r.begin + i], b = block_of_[r.begin + j];
+          if (a >= 0 && b > a && blocks_[a].column >= 0 && blocks_[b].column >= 0)
+            rows[a].push_back(b);
+        }
+    for (int p = 0; p < num_points_; ++p)
+      for (int i = point_couplings_begin_[p]; i < point_couplings_begin_[p + 1]; ++i)
+        for (int j = i + 1; j < point_couplings_begin_[p + 1]; ++j)
+          rows[couplings_[i].block].push_back(couplings_[j].block);
+    pair_begin_.assign(num_column_blocks_ + 1, 0);
+    pair_block_.clear();
+    pair_offset_.clear();
+    size_t offset = 0;
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      std::sort(rows[a].begin(), rows[a].end());
+      rows[a].erase(std::unique(rows[a].begin(), rows[a].end()), rows[a].end());
+      pair_begin_[a] = static_cast<int>(pair_block_.size());
+      for (const int b : rows[a]) {
+        pair_block_.push_back(b);
+        pair_offset_.push_back(offset);
+        offset += static_cast<size_t>(blocks_[a].tangent) * blocks_[b].tangent;
+      }
+      std::vector<int>().swap(rows[a]);
+    }
+    pair_begin_[num_column_blocks_] = static_cast<int>(pair_block_.size());
+    pair_block_.push_back(std::numeric_limits<int>::max());  // sentinel for the row walks
+    s_blocks_.assign(offset, 0.0);
+    g_c_.resize(num_columns_);
+    // Sparse when the blocks fill less than half the upper triangle of a system of more than
+    // 300 columns (~33 images).
+    const double upper = 0.5 * static_cast<double>(num_columns_) * (num_columns_ + 1);
+    sparse_ = factorization_ == DenseSchurOptions::Factorization::kSparse ||
+              (factorization_ == DenseSchurOptions::Factorization::kAuto && num_columns_ > 300 &&
+               static_cast<double>(offset) < 0.5 * upper);
+    if (!sparse_) return;
+    // The pattern once (upper triangle, column-major); each block column is a contiguous run of
+    // its column's non-zeros, recorded in value_starts_ for FillSparse.
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(offset);
+    for (int a = 0; a < num_column_blocks_; ++a)
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        const Block& ba = blocks_[a];
+        const Block& bb = blocks_[pair_block_[k]];
+        for (int c = 0; c < bb.tangent; ++c)
+          for (int j = 0; j < ba.tangent && (pair_block_[k] != a || j <= c); ++j)
+            triplets.emplace_back(ba.column + j, bb.column + c, 1.0);
+      }
+    sparse_s_.resize(num_columns_, num_columns_);
+    sparse_s_.setFromTriplets(triplets.begin(), triplets.end());
+    sparse_s_.makeCompressed();
+    pair_value_begin_.resize(pair_block_.size() - 1);
+    std::vector<int> starts;
+    for (int a = 0; a < num_column_blocks_; ++a)
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        const Block& bb = blocks_[pair_block_[k]];
+        pair_value_begin_[k] = static_cast<int>(starts.size());
+        for (int c = 0; c < bb.tangent; ++c) {
+          const int col = bb.column + c;
+          const int* rows_begin = sparse_s_.innerIndexPtr() + sparse_s_.outerIndexPtr()[col];
+          const int* rows_end = sparse_s_.innerIndexPtr() + sparse_s_.outerIndexPtr()[col + 1];
+          starts.push_back(
+              static_cast<int>(std::lower_bound(rows_begin, rows_end, blocks_[a].column) -
+                               sparse_s_.innerIndexPtr()));
+        }
+      }
+    value_starts_ = std::move(starts);
+    sparse_llt_.analyzePattern(sparse_s_);
+  }
+
+  // The offset of block (a, b), a <= b, in s_blocks_.
+  size_t PairOffset(int a, int b) const {
+    const auto first = pair_block_.begin() + pair_begin_[a];
+    const auto last = pair_block_.begin() + pair_begin_[a + 1];
+    return pair_offset_[std::lower_bound(first, last, b) - pair_block_.begin()];
+  }
+
+  // The scaled reduced system (work_) into the sparse matrix's values / a dense upper triangle.
+  void FillSparse(const Eigen::VectorXd& scale) {
+    double* values = sparse_s_.valuePtr();
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      const Block& ba = blocks_[a];
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        const Block& bb = blocks_[pair_block_[k]];
+        const double* block = &work_[pair_offset_[k]];
+        for (int c = 0; c < bb.tangent; ++c) {
+          const int rows = pair_block_[k] == a ? c + 1 : ba.tangent;
+          double* out = values + value_starts_[pair_value_begin_[k] + c];
+          const double sc = scale[bb.column + c];
+          for (int j = 0; j < rows; ++j)
+            out[j] = block[c * ba.tangent + j] * scale[ba.column + j] * sc;
+        }
+      }
+    }
+  }
+
+  void FillDense(const Eigen::VectorXd& scale, Eigen::MatrixXd* s) const {
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      const Block& ba = blocks_[a];
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        const Block& bb = blocks_[pair_block_[k]];
+        const double* block = &work_[pair_offset_[k]];
+        for (int c = 0; c < bb.tangent; ++c)
+          for (int j = 0; j < ba.tangent; ++j)
+            (*s)(ba.column + j, bb.column + c) =
+                block[c * ba.tangent + j] * scale[ba.column + j] * scale[bb.column + c];
+      }
+    }
+  }
+
   static bool UpdatePlusJacobian(Block* b) {
     if (!b->manifold) return true;
     b->plus_jacobian.resize(b->size, b->tangent);
@@ -464,7 +640,20 @@ class DenseSchurProblem {
   int max_parameters_ = 0;
   int max_block_size_ = 0;
   // Normal equations at the current parameters (undamped).
-  Eigen::MatrixXd s_;  // upper triangle
+  // The reduced system's blocks (a, b), a <= b: row a's are pair_block_[pair_begin_[a] ..
+  // pair_begin_[a + 1]), each column-major tangent_a x tangent_b at pair_offset_.
+  int num_column_blocks_ = 0;
+  std::vector<int> pair_begin_;
+  std::vector<int> pair_block_;
+  std::vector<size_t> pair_offset_;
+  std::vector<double> s_blocks_;  // J^T J (undamped)
+  std::vector<double> work_;      // damped, minus the points' Schur terms
+  DenseSchurOptions::Factorization factorization_;
+  bool sparse_ = false;
+  Eigen::SparseMatrix<double> sparse_s_;  // upper triangle, pattern fixed at setup
+  std::vector<int> pair_value_begin_;     // per block: its columns' entries in value_starts_
+  std::vector<int> value_starts_;         // per block column: first index in sparse_s_'s values
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Upper> sparse_llt_;
   Eigen::VectorXd g_c_;
   std::vector<double> w_;
   std::vector<Matrix3> v_;
@@ -483,8 +672,9 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
                                       ceres::Problem* problem) {
   DenseSchurSummary summary;
   Timer timer;
-  DenseSchurProblem dense(eliminate, problem);
+  DenseSchurProblem dense(eliminate, options.factorization, problem);
   summary.seconds_setup = timer.Seconds();
+  summary.sparse = dense.sparse();
   double cost = 0.0;
   const auto linearise = [&] {
     const Timer t;

@@ -1,6 +1,6 @@
 #pragma once
-// Levenberg-Marquardt with a dense Schur complement, for bundle-adjustment problems of up to a few
-// hundred images: the project's own solver for the problems Ceres spends most of its time on
+// Levenberg-Marquardt with the Schur complement of the points, for bundle-adjustment problems:
+// the project's own solver for the problems Ceres spends most of its time on
 // bookkeeping for. It solves a ceres::Problem as it is built (cost functions, loss functions and
 // manifolds through their public interfaces), so the model is defined once and either solver
 // runs it; Ceres stays the reference (tests/ba/dense_schur_solver_test.cc) and the solver for
@@ -38,6 +38,11 @@ struct DenseSchurOptions {
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
   double initial_trust_region_radius = 1e4;
+  // The reduced system's factorisation: dense Cholesky, or a sparse one (Eigen's simplicial
+  // LLT, AMD ordering) for a large system with few blocks (a sequence's banded camera graph);
+  // kAuto: sparse beyond 300 columns when its blocks fill less than half of it.
+  enum class Factorization { kAuto, kDense, kSparse };
+  Factorization factorization = Factorization::kAuto;
 };
 
 struct DenseSchurSummary {
@@ -47,6 +52,7 @@ struct DenseSchurSummary {
   int unsuccessful_steps = 0;
   double initial_cost = 0.0;  // 1/2 sum rho(|r|^2), as Ceres reports it
   double final_cost = 0.0;
+  bool sparse = false;  // the reduced system was factorised sparse
   std::string message;  // why it stopped
   // Where the time went (s): building the solver's view of the problem, residuals and
   // Jacobians with the normal equations' blocks, residuals only (trial steps), the reduced
