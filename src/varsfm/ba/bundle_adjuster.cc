@@ -542,12 +542,13 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     result.success = summary.usable;
     result.iterations = summary.successful_steps + summary.unsuccessful_steps;
     result.report = fmt::format(
-        "native Schur LM ({}): {} ({} + {} steps, cost {:.6e} -> {:.6e}; s: setup {:.4f}, "
+        "native Schur LM ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
+        "{:.6e}; s: setup {:.4f}, "
         "linearise {:.4f}, residuals {:.4f}, solve {:.4f}; total {:.4f})",
-        summary.sparse ? "sparse" : "dense", summary.message, summary.successful_steps,
-        summary.unsuccessful_steps, summary.initial_cost, summary.final_cost, summary.seconds_setup,
-        summary.seconds_linearise, summary.seconds_residuals, summary.seconds_solve,
-        timer.Seconds());
+        summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
+        summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
+        summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
+        summary.seconds_residuals, summary.seconds_solve, timer.Seconds());
   } else {
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);

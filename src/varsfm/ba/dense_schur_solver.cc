@@ -213,6 +213,7 @@ class DenseSchurProblem {
 
   int num_columns() const { return num_columns_; }
   bool sparse() const { return sparse_; }
+  double fill() const { return fill_; }
   int num_points() const { return num_points_; }
 
   // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
@@ -533,12 +534,18 @@ class DenseSchurProblem {
     pair_block_.push_back(std::numeric_limits<int>::max());  // sentinel for the row walks
     s_blocks_.assign(offset, 0.0);
     g_c_.resize(num_columns_);
-    // Sparse when the blocks fill less than half the upper triangle of a system of more than
-    // 300 columns (~33 images).
+    // Sparse for a large system (beyond 1500 columns, ~170 images, where a dense factorisation
+    // costs over a GFLOP an iteration) or a mid-sized one whose blocks fill less than a quarter
+    // of it. Measured on bench/scale's street sequence (2026-12-01): the final global BA of 200
+    // images (1,800 columns, 8 iterations) spent 3.1-4.5 s in the dense solves and 3.1 s in the
+    // sparse ones (the points' Schur terms dominate both); one of 370 images (3,330 columns)
+    // spent 1.0 s per dense solve. At 100 images the blocks fill 59 % of the system.
     const double upper = 0.5 * static_cast<double>(num_columns_) * (num_columns_ + 1);
+    fill_ = upper > 0.0 ? static_cast<double>(offset) / upper : 0.0;
     sparse_ = factorization_ == DenseSchurOptions::Factorization::kSparse ||
-              (factorization_ == DenseSchurOptions::Factorization::kAuto && num_columns_ > 300 &&
-               static_cast<double>(offset) < 0.5 * upper);
+              (factorization_ == DenseSchurOptions::Factorization::kAuto &&
+               (num_columns_ > 1500 ||
+                (num_columns_ > 300 && static_cast<double>(offset) < 0.25 * upper)));
     if (!sparse_) return;
     // The pattern once (upper triangle, column-major); each block column is a contiguous run of
     // its column's non-zeros, recorded in value_starts_ for FillSparse.
@@ -650,6 +657,7 @@ class DenseSchurProblem {
   std::vector<double> work_;      // damped, minus the points' Schur terms
   DenseSchurOptions::Factorization factorization_;
   bool sparse_ = false;
+  double fill_ = 0.0;
   Eigen::SparseMatrix<double> sparse_s_;  // upper triangle, pattern fixed at setup
   std::vector<int> pair_value_begin_;     // per block: its columns' entries in value_starts_
   std::vector<int> value_starts_;         // per block column: first index in sparse_s_'s values
@@ -675,6 +683,8 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
   DenseSchurProblem dense(eliminate, options.factorization, problem);
   summary.seconds_setup = timer.Seconds();
   summary.sparse = dense.sparse();
+  summary.reduced_columns = dense.num_columns();
+  summary.reduced_fill = dense.fill();
   double cost = 0.0;
   const auto linearise = [&] {
     const Timer t;

@@ -40,7 +40,7 @@ struct DenseSchurOptions {
   double initial_trust_region_radius = 1e4;
   // The reduced system's factorisation: dense Cholesky, or a sparse one (Eigen's simplicial
   // LLT, AMD ordering) for a large system with few blocks (a sequence's banded camera graph);
-  // kAuto: sparse beyond 300 columns when its blocks fill less than half of it.
+  // kAuto: sparse beyond 1500 columns, or beyond 300 when its blocks fill less than a quarter.
   enum class Factorization { kAuto, kDense, kSparse };
   Factorization factorization = Factorization::kAuto;
 };
@@ -52,8 +52,10 @@ struct DenseSchurSummary {
   int unsuccessful_steps = 0;
   double initial_cost = 0.0;  // 1/2 sum rho(|r|^2), as Ceres reports it
   double final_cost = 0.0;
-  bool sparse = false;  // the reduced system was factorised sparse
-  std::string message;  // why it stopped
+  bool sparse = false;        // the reduced system was factorised sparse
+  int reduced_columns = 0;    // its size
+  double reduced_fill = 0.0;  // the fraction of its upper triangle its blocks cover
+  std::string message;        // why it stopped
   // Where the time went (s): building the solver's view of the problem, residuals and
   // Jacobians with the normal equations' blocks, residuals only (trial steps), the reduced
   // system's assembly and solution.
