@@ -41,11 +41,9 @@ Reconstruction PerturbedScene(int num_images, int num_points) {
   return rec;
 }
 
-void BM_GlobalBundleAdjustment(benchmark::State& state) {
-  static const Reconstruction start = PerturbedScene(30, 15000);
-  BundleAdjustmentOptions options;
-  options.solver = static_cast<BundleAdjustmentOptions::Solver>(state.range(0));
-  options.num_threads = static_cast<int>(state.range(1));
+// Times the global adjustment of a copy of `start` and reports the solver, iterations and RMS.
+void AdjustAndReport(const Reconstruction& start, const BundleAdjustmentOptions& options,
+                     benchmark::State& state) {
   BundleAdjustmentSummary summary;
   for (auto _ : state) {
     state.PauseTiming();
@@ -58,8 +56,16 @@ void BM_GlobalBundleAdjustment(benchmark::State& state) {
   state.counters["final_rms_px"] = summary.final_rms_px;
   state.counters["observations"] = summary.num_residuals;
 }
-// Solvers kDenseSchur, kSparseSchurSuiteSparse, kSparseSchurEigen, kIterativeSchur (1..4;
-// 0 is kAuto, which picks kDenseSchur at this size), each with 1 thread (the reproducible
+
+void BM_GlobalBundleAdjustment(benchmark::State& state) {
+  static const Reconstruction start = PerturbedScene(30, 15000);
+  BundleAdjustmentOptions options;
+  options.solver = static_cast<BundleAdjustmentOptions::Solver>(state.range(0));
+  options.num_threads = static_cast<int>(state.range(1));
+  AdjustAndReport(start, options, state);
+}
+// Ceres' solvers kDenseSchur, kSparseSchurSuiteSparse, kSparseSchurEigen, kIterativeSchur
+// (1..4; 0 is kAuto, which picks the native solver, 5), each with 1 thread (the reproducible
 // default) and 2.
 BENCHMARK(BM_GlobalBundleAdjustment)
     ->ArgsProduct({{1, 2, 3, 4}, {1, 2}})
@@ -75,17 +81,7 @@ void BM_SmallBundleAdjustment(benchmark::State& state) {
   options.function_tolerance = 1e-5;  // the mapper's global adjustments
   options.intrinsics.refine_principal_point = true;
   options.intrinsics.shared_per_size = {Camera::kU0, Camera::kV0};
-  BundleAdjustmentSummary summary;
-  for (auto _ : state) {
-    state.PauseTiming();
-    Reconstruction rec = start;
-    state.ResumeTiming();
-    summary = RunBundleAdjustment(options, BundleAdjustmentConfig::Global(rec), &rec);
-  }
-  state.SetLabel(summary.solver);
-  state.counters["iterations"] = summary.iterations;
-  state.counters["final_rms_px"] = summary.final_rms_px;
-  state.counters["observations"] = summary.num_residuals;
+  AdjustAndReport(start, options, state);
 }
 // kNativeDenseSchur (5) and kDenseSchur (1), one thread.
 BENCHMARK(BM_SmallBundleAdjustment)

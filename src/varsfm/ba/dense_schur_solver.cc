@@ -19,7 +19,6 @@ namespace varsfm {
 namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using MapRowMatrix = Eigen::Map<RowMatrix>;
 using Matrix3 = Eigen::Matrix3d;
 
 // Ceres' defaults (solver.h): LM diagonal bounds, trust-region bounds, step acceptance.
@@ -214,7 +213,6 @@ class DenseSchurProblem {
   int num_columns() const { return num_columns_; }
   bool sparse() const { return sparse_; }
   double fill() const { return fill_; }
-  int num_points() const { return num_points_; }
 
   // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
   // equations' blocks (S, W, V, g) of the loss-corrected Jacobian. False when a cost function
