@@ -1,10 +1,10 @@
 #pragma once
 // Levenberg-Marquardt with the Schur complement of the points, for bundle-adjustment problems:
-// the project's own solver for the problems Ceres spends most of its time on
-// bookkeeping for. It solves a ceres::Problem as it is built (cost functions, loss functions and
-// manifolds through their public interfaces), so the model is defined once and either solver
-// runs it; Ceres stays the reference (tests/ba/dense_schur_solver_test.cc) and the solver for
-// large, sparse problems.
+// the project's own solver (the mapper's up to 5000 images; the file keeps its first name, the
+// reduced system is factorised dense or sparse). It solves a ceres::Problem as it is built (cost
+// functions, loss functions and manifolds through their public interfaces), so the model is
+// defined once and either solver runs it; Ceres stays the reference (tests/ba) and the solver
+// beyond 5000 images (ITERATIVE_SCHUR).
 //
 // Why: Ceres' program evaluator and Schur eliminator are general (parameter-block indirection,
 // manifold products through dynamic-size matrices, a dynamic f-block size once a problem mixes
