@@ -74,8 +74,10 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
   cmd->add_option("--seed", m.seed, "random seed")->capture_default_str();
-  cmd->add_option("--threads", m.num_threads,
-                  "bundle adjustment threads (1: reproducible bit for bit; 0: all cores)")
+  cmd->add_option(
+         "--threads", m.num_threads,
+         "bundle adjustment threads (0: all cores; the native solver's result does not depend "
+         "on it, Ceres' is reproducible with 1 only)")
       ->capture_default_str();
   using Solver = varsfm::BundleAdjustmentOptions::Solver;
   static const std::map<std::string, Solver> kSolvers = {

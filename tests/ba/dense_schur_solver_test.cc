@@ -139,6 +139,28 @@ TEST(DenseSchurSolver, SparseFactorisationEqualsDense) {
       EXPECT_NEAR(sparse_problem.cameras[i][j], dense_problem.cameras[i][j], 1e-6) << i << " " << j;
 }
 
+// The work is cut into fixed parts summed in a fixed order: any number of threads gives the
+// same iterations and the same minimum, bit for bit.
+TEST(DenseSchurSolver, SameResultBitForBitWithAnyNumberOfThreads) {
+  StreetProblem reference;
+  DenseSchurOptions options;
+  const DenseSchurSummary one =
+      SolveWithDenseSchur(options, reference.PointBlocks(), &reference.problem);
+  ASSERT_TRUE(one.usable) << one.message;
+  for (const int threads : {2, 3, 16}) {
+    SCOPED_TRACE(threads);
+    StreetProblem street;
+    options.num_threads = threads;
+    const DenseSchurSummary summary =
+        SolveWithDenseSchur(options, street.PointBlocks(), &street.problem);
+    EXPECT_EQ(summary.successful_steps, one.successful_steps);
+    EXPECT_EQ(summary.final_cost, one.final_cost);
+    EXPECT_EQ(street.cameras, reference.cameras);
+    for (size_t k = 0; k < street.points.size(); ++k)
+      EXPECT_EQ(street.points[k], reference.points[k]) << k;
+  }
+}
+
 TEST(DenseSchurSolver, FitsACurveAsCeresDoes) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.2);

@@ -507,9 +507,8 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   solver_options.function_tolerance = options.function_tolerance;
   solver_options.gradient_tolerance = options.gradient_tolerance;
   solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.num_threads = options.num_threads > 0
-                                   ? options.num_threads
-                                   : std::max(1u, std::thread::hardware_concurrency());
+  // Ceres' multi-threaded sums depend on the scheduling: one thread unless asked for more.
+  solver_options.num_threads = std::max(1, options.num_threads);
   solver_options.minimizer_progress_to_stdout = options.verbose;
   solver_options.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
   Solver solver = options.solver;
@@ -535,6 +534,9 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     native.function_tolerance = options.function_tolerance;
     native.gradient_tolerance = options.gradient_tolerance;
     native.parameter_tolerance = options.parameter_tolerance;
+    native.num_threads = options.num_threads > 0
+                             ? options.num_threads
+                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<double*> points;
     points.reserve(problem_points.size());
     for (const point3D_t id : problem_points) points.push_back(buffer.point(id));

@@ -1,8 +1,10 @@
 #include "varsfm/ba/dense_schur_solver.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
@@ -12,6 +14,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "varsfm/util/timer.h"
 
@@ -107,13 +112,61 @@ struct Residual {
   int begin = 0;
   int count = 0;
   int point_parameter = -1;  // which parameter block is the eliminated point, if any
+  int point = -1;            // that point's index
+};
+
+// A block (a, b) of the reduced system that residuals write directly (two non-eliminated blocks
+// of one residual: an image's diagonal block, an image with a shared camera block): at `offset`
+// in the blocks, at `compact` in each part's buffer.
+struct ResidualPair {
+  size_t offset = 0;
+  size_t compact = 0;
+  size_t size = 0;
+};
+
+// The work is cut into a fixed number of parts, whatever the number of threads, and every sum
+// over parts is taken in part order: the result is then the same bit for bit with any number of
+// threads (Ceres' multi-threaded sums depend on the scheduling).
+constexpr int kParts = 8;
+
+// Runs fn(0) ... fn(kParts - 1), on the calling thread alone or on up to `num_threads` threads.
+class PartRunner {
+ public:
+  explicit PartRunner(int num_threads) {
+    if (num_threads > 1) arena_.emplace(std::min(num_threads, kParts));
+  }
+  template <typename Fn>
+  void Run(const Fn& fn) {
+    if (!arena_) {
+      for (int k = 0; k < kParts; ++k) fn(k);
+      return;
+    }
+    arena_->execute([&] { tbb::parallel_for(0, kParts, [&](int k) { fn(k); }); });
+  }
+
+ private:
+  std::optional<tbb::task_arena> arena_;
+};
+
+// One part's buffers for Evaluate: its residuals' scratch and its share of the sums that several
+// parts write (the reduced system's columns' gradient, the blocks that residuals couple directly,
+// the cost).
+struct PartScratch {
+  std::vector<double> r;
+  std::vector<std::vector<double>> raw, tangent;
+  std::vector<double*> jacobians;
+  std::vector<double> s;  // residual-coupled blocks, at their compact offsets
+  Eigen::VectorXd g;
+  double cost = 0.0;
+  bool ok = true;
 };
 
 class DenseSchurProblem {
  public:
   DenseSchurProblem(const std::vector<double*>& eliminate,
-                    DenseSchurOptions::Factorization factorization, ceres::Problem* problem)
-      : factorization_(factorization) {
+                    DenseSchurOptions::Factorization factorization, int num_threads,
+                    ceres::Problem* problem)
+      : factorization_(factorization), runner_(num_threads) {
     std::vector<ceres::ResidualBlockId> ids;
     problem->GetResidualBlocks(&ids);
     residuals_.resize(ids.size());
@@ -202,11 +255,17 @@ class DenseSchurProblem {
               pairs.begin());
     }
     w_.resize(offset);
+    t_.resize(offset);
     BuildReducedStructure();
-    g_c_.resize(num_columns_);
+    PartitionResiduals();
+    BuildResidualPairs();
+    BuildRowGroups();
     v_.resize(num_points_);
     v_inverse_.resize(num_points_);
     g_p_.resize(num_points_);
+    delta_p_.resize(num_points_);
+    point_g_delta_.resize(num_points_);
+    point_dDd_.resize(num_points_);
     for (const Block& b : blocks_) num_parameters_ += b.size;
   }
 
@@ -216,111 +275,30 @@ class DenseSchurProblem {
 
   // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
   // equations' blocks (S, W, V, g) of the loss-corrected Jacobian. False when a cost function
-  // fails. The products are plain loops: the blocks are a few parameters wide, where Eigen's
-  // dynamic-size expressions cost more than the arithmetic (they took 40 % of the solver's time).
+  // fails. Each part evaluates its residuals (whole points: their W, V and g_p are its own); the
+  // blocks and gradient entries that several parts write are summed afterwards in part order.
   bool Evaluate(bool linearise, double* cost) {
-    if (linearise) {
+    if (linearise)
       for (Block& b : blocks_)
         if (!UpdatePlusJacobian(&b)) return false;
-      std::fill(s_blocks_.begin(), s_blocks_.end(), 0.0);
-      g_c_.setZero();
-      std::fill(w_.begin(), w_.end(), 0.0);
-      for (int p = 0; p < num_points_; ++p) v_[p].setZero(), g_p_[p].setZero();
-    }
-    const int max_params = max_parameters_;
-    std::vector<double> r(max_residuals_);
-    std::vector<std::vector<double>> raw(max_params), tangent(max_params);
-    std::vector<double*> jacobians(max_params, nullptr);
-    if (linearise)
-      for (int k = 0; k < max_params; ++k) {
-        raw[k].resize(max_residuals_ * max_block_size_);
-        tangent[k].resize(max_residuals_ * max_block_size_);
-      }
+    runner_.Run([&](int k) { EvaluatePart(k, linearise); });
     double total = 0.0;
-    for (size_t i = 0; i < residuals_.size(); ++i) {
-      const Residual& res = residuals_[i];
-      if (i + 1 < residuals_.size()) __builtin_prefetch(residuals_[i + 1].cost);
-      const int n = res.cost->num_residuals();
-      const int num_params = res.count;
-      const int* block_of = &block_of_[res.begin];
-      for (int k = 0; k < num_params; ++k)
-        jacobians[k] = linearise && block_of[k] >= 0 ? raw[k].data() : nullptr;
-      if (!res.cost->Evaluate(&values_[res.begin], r.data(),
-                              linearise ? jacobians.data() : nullptr))
-        return false;
-      double squared = 0.0;
-      for (int i = 0; i < n; ++i) squared += r[i] * r[i];
-      double rho[3] = {squared, 1.0, 0.0};
-      if (res.loss) res.loss->Evaluate(squared, rho);
-      total += 0.5 * rho[0];
-      if (!linearise) continue;
-
-      // The Jacobians in tangent coordinates (row-major n x tangent): J P, P sparse.
-      for (int k = 0; k < num_params; ++k) {
-        if (block_of[k] < 0) continue;
-        const Block& b = blocks_[block_of[k]];
-        const double* J = raw[k].data();
-        double* Jt = tangent[k].data();
-        if (!b.manifold) {
-          std::copy_n(J, n * b.size, Jt);
-          continue;
-        }
-        std::fill_n(Jt, n * b.tangent, 0.0);
-        for (const PlusEntry& e : b.plus_entries)
-          for (int i = 0; i < n; ++i) Jt[i * b.tangent + e.col] += J[i * b.size + e.row] * e.value;
-      }
-      // Triggs' correction (Ceres' Corrector): sqrt(rho') scales the residual and Jacobian,
-      // with a rank-one term when the loss is locally convex (rho'' > 0).
-      if (res.loss) {
-        const double sqrt_rho1 = std::sqrt(rho[1]);
-        double alpha = 0.0, residual_scaling = sqrt_rho1;
-        if (squared > 0.0 && rho[2] > 0.0) {
-          alpha = 1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
-          residual_scaling = sqrt_rho1 / (1.0 - alpha);
-        }
-        for (int k = 0; k < num_params; ++k) {
-          if (block_of[k] < 0) continue;
-          const int t = blocks_[block_of[k]].tangent;
-          double* Jt = tangent[k].data();
-          if (alpha != 0.0) {
-            for (int j = 0; j < t; ++j) {
-              double rJ = 0.0;
-              for (int i = 0; i < n; ++i) rJ += r[i] * Jt[i * t + j];
-              for (int i = 0; i < n; ++i) Jt[i * t + j] -= (alpha / squared) * r[i] * rJ;
-            }
-          }
-          for (int i = 0; i < n * t; ++i) Jt[i] *= sqrt_rho1;
-        }
-        for (int i = 0; i < n; ++i) r[i] *= residual_scaling;
-      }
-      // Accumulate J^T J and J^T r: block pairs into S (upper triangle), the point's V and
-      // g_p, the couplings W.
-      const int pk = res.point_parameter;
-      const double* Jp = pk >= 0 ? tangent[pk].data() : nullptr;
-      for (int a = 0; a < num_params; ++a) {
-        if (block_of[a] < 0) continue;
-        const Block& ba = blocks_[block_of[a]];
-        const int ta = ba.tangent;
-        const double* Ja = tangent[a].data();
-        double* g = a == pk ? g_p_[ba.point].data() : g_c_.data() + ba.column;
-        AddTransposeProduct(Ja, ta, r.data(), 1, n, g, 1);
-        if (a == pk) {
-          AddTransposeProduct(Ja, 3, Ja, 3, n, v_[ba.point].data(), 3);  // column-major 3 x 3
-          continue;
-        }
-        for (int b = 0; b < num_params; ++b) {
-          if (b == pk || block_of[b] < 0) continue;
-          const Block& bb = blocks_[block_of[b]];
-          if (bb.column < ba.column) continue;
-          AddTransposeProduct(Ja, ta, tangent[b].data(), bb.tangent, n,
-                              &s_blocks_[PairOffset(block_of[a], block_of[b])], ta);
-        }
-        if (Jp)  // W: column-major ta x 3
-          AddTransposeProduct(Ja, ta, Jp, 3, n, &w_[couplings_[coupling_of_[res.begin + a]].offset],
-                              ta);
-      }
+    for (const PartScratch& part : parts_) {
+      if (!part.ok) return false;
+      total += part.cost;
     }
     *cost = total;
+    if (!linearise) return true;
+    g_c_ = parts_[0].g;
+    for (int k = 1; k < kParts; ++k) g_c_ += parts_[k].g;
+    for (const ResidualPair& pair : residual_pairs_) {
+      double* out = &s_blocks_[pair.offset];
+      for (size_t j = 0; j < pair.size; ++j) {
+        double sum = parts_[0].s[pair.compact + j];
+        for (int k = 1; k < kParts; ++k) sum += parts_[k].s[pair.compact + j];
+        out[j] = sum;
+      }
+    }
     return true;
   }
 
@@ -335,66 +313,13 @@ class DenseSchurProblem {
   // false when the reduced system is not positive definite. `model_decrease` is the decrease of
   // the linearised cost, -1/2 g^T delta + 1/2 mu delta^T D delta (from the damped equations).
   bool SolveStep(double mu, double* model_decrease, double* step_norm) {
-    work_ = s_blocks_;
-    Eigen::VectorXd rhs = -g_c_;
-    double dDd = 0.0;
-    for (int a = 0; a < num_column_blocks_; ++a) {  // damping of the diagonal blocks
-      const int ta = blocks_[a].tangent;
-      double* d = &work_[pair_offset_[pair_begin_[a]]];  // (a, a) is the first of its row
-      for (int i = 0; i < ta; ++i) d[i * ta + i] += mu * ClampDiagonal(d[i * ta + i]);
-    }
-    std::vector<double> t;  // W_a V^-1 for the couplings of one point, each tangent_a x 3
-    for (int p = 0; p < num_points_; ++p) {
-      Matrix3 v = v_[p];
-      for (int i = 0; i < 3; ++i) v(i, i) += mu * ClampDiagonal(v_[p](i, i));
-      Eigen::LDLT<Matrix3> ldlt(v);
-      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
-      v_inverse_[p] = ldlt.solve(Matrix3::Identity());
-      const int begin = point_couplings_begin_[p], end = point_couplings_begin_[p + 1];
-      // W's of one point are stored contiguously: W V^-1 goes to t at the same offsets.
-      const size_t base = end > begin ? couplings_[begin].offset : 0;
-      const size_t end_offset =
-          end > begin ? couplings_[end - 1].offset + 3 * blocks_[couplings_[end - 1].block].tangent
-                      : base;
-      t.resize(end_offset - base);
-      const Matrix3& vi = v_inverse_[p];
-      const Eigen::Vector3d& gp = g_p_[p];
-      for (int a = begin; a < end; ++a) {  // T = W V^-1, column-major ta x 3 like W
-        const int ta = blocks_[couplings_[a].block].tangent;
-        const int column = blocks_[couplings_[a].block].column;
-        const double* __restrict W = &w_[couplings_[a].offset];
-        double* __restrict T = &t[couplings_[a].offset - base];
-        for (int c = 0; c < 3; ++c)
-          for (int j = 0; j < ta; ++j)
-            T[c * ta + j] = W[j] * vi(0, c) + W[ta + j] * vi(1, c) + W[2 * ta + j] * vi(2, c);
-        for (int j = 0; j < ta; ++j)
-          rhs[column + j] += T[j] * gp[0] + T[ta + j] * gp[1] + T[2 * ta + j] * gp[2];
-      }
-      // S_ab -= T_a W_b^T for a <= b. Couplings and each block row are in block order, so one
-      // walk along the row finds every b.
-      for (int a = begin; a < end; ++a) {
-        const int block_a = couplings_[a].block;
-        const int ta = blocks_[block_a].tangent;
-        const double* __restrict T = &t[couplings_[a].offset - base];
-        int k = pair_begin_[block_a];
-        for (int b = a; b < end; ++b) {
-          const int block_b = couplings_[b].block;
-          while (pair_block_[k] < block_b) ++k;
-          const int tb = blocks_[block_b].tangent;
-          const double* __restrict Wb = &w_[couplings_[b].offset];
-          double* __restrict out = &work_[pair_offset_[k]];
-          if (ta == 9 && tb == 9) {  // two image blocks: the common case, unrolled
-            SubtractSchurTerm9(T, Wb, out);
-            continue;
-          }
-          for (int c = 0; c < tb; ++c) {
-            const double w0 = Wb[c], w1 = Wb[tb + c], w2 = Wb[2 * tb + c];
-            double* __restrict o = out + c * ta;
-            for (int j = 0; j < ta; ++j) o[j] -= T[j] * w0 + T[ta + j] * w1 + T[2 * ta + j] * w2;
-          }
-        }
-      }
-    }
+    // V^-1 and T = W V^-1 of every point, then each part's rows of the reduced system and its
+    // right-hand side: S + mu D - sum_p T_p W_p^T and -g_c + sum_p T_p g_p.
+    runner_.Run([&](int k) { part_ok_[k] = InvertPoints(k, mu); });
+    if (std::find(part_ok_.begin(), part_ok_.end(), false) != part_ok_.end()) return false;
+    work_.resize(s_blocks_.size());
+    rhs_.resize(num_columns_);
+    runner_.Run([&](int k) { EliminatePoints(k, mu); });
     // Jacobi scaling of the reduced system, then Cholesky of its upper triangle (dense, or
     // sparse for a sequence's banded camera graph).
     Eigen::VectorXd scale(num_columns_);
@@ -405,8 +330,9 @@ class DenseSchurProblem {
         scale[blocks_[a].column + i] = 1.0 / std::sqrt(std::max(d[i * ta + i], 1e-300));
     }
     delta_c_.resize(num_columns_);
+    double dDd = 0.0;
     if (num_columns_ > 0) {
-      const Eigen::VectorXd scaled_rhs = scale.asDiagonal() * rhs;
+      const Eigen::VectorXd scaled_rhs = scale.asDiagonal() * rhs_;
       Eigen::VectorXd y;
       if (sparse_) {
         FillSparse(scale);
@@ -431,26 +357,16 @@ class DenseSchurProblem {
         }
       }
     }
+    runner_.Run([&](int k) { part_ok_[k] = BackSubstitute(k); });
+    if (std::find(part_ok_.begin(), part_ok_.end(), false) != part_ok_.end()) return false;
     double g_delta = g_c_.dot(delta_c_);
-    delta_p_.resize(num_points_);
-    for (int p = 0; p < num_points_; ++p) {
-      Eigen::Vector3d b = -g_p_[p];
-      for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
-        const Block& ba = blocks_[couplings_[a].block];
-        const double* W = &w_[couplings_[a].offset];  // column-major tangent x 3
-        for (int c = 0; c < 3; ++c)
-          for (int j = 0; j < ba.tangent; ++j)
-            b[c] -= W[c * ba.tangent + j] * delta_c_[ba.column + j];
-      }
-      delta_p_[p] = v_inverse_[p] * b;
-      if (!delta_p_[p].allFinite()) return false;
-      g_delta += g_p_[p].dot(delta_p_[p]);
-      for (int i = 0; i < 3; ++i)
-        dDd += ClampDiagonal(v_[p](i, i)) * delta_p_[p][i] * delta_p_[p][i];
+    double norm2 = delta_c_.squaredNorm();
+    for (int p = 0; p < num_points_; ++p) {  // in point order, whatever the parts
+      g_delta += point_g_delta_[p];
+      dDd += point_dDd_[p];
+      norm2 += delta_p_[p].squaredNorm();
     }
     *model_decrease = -0.5 * g_delta + 0.5 * mu * dDd;
-    double norm2 = delta_c_.squaredNorm();
-    for (const Eigen::Vector3d& d : delta_p_) norm2 += d.squaredNorm();
     *step_norm = std::sqrt(norm2);
     return true;
   }
@@ -491,6 +407,320 @@ class DenseSchurProblem {
   }
 
  private:
+  // One part's residuals into its buffers (see Evaluate); the W, V and g_p of its points are
+  // zeroed and summed here, as no other part writes them.
+  void EvaluatePart(int k, bool linearise) {
+    PartScratch& part = parts_[k];
+    part.cost = 0.0;
+    part.ok = true;
+    const int max_params = max_parameters_;
+    if (part.r.empty()) {
+      part.r.resize(max_residuals_);
+      part.raw.resize(max_params);
+      part.tangent.resize(max_params);
+      part.jacobians.assign(max_params, nullptr);
+      for (int j = 0; j < max_params; ++j) {
+        part.raw[j].resize(max_residuals_ * max_block_size_);
+        part.tangent[j].resize(max_residuals_ * max_block_size_);
+      }
+    }
+    if (linearise) {
+      std::fill(part.s.begin(), part.s.end(), 0.0);
+      part.g.setZero(num_columns_);
+      const int p_begin = point_part_begin_[k], p_end = point_part_begin_[k + 1];
+      for (int p = p_begin; p < p_end; ++p) v_[p].setZero(), g_p_[p].setZero();
+      const int c_begin = point_couplings_begin_[p_begin], c_end = point_couplings_begin_[p_end];
+      if (c_end > c_begin)
+        std::fill(w_.begin() + couplings_[c_begin].offset,
+                  w_.begin() + couplings_[c_end - 1].offset +
+                      3 * blocks_[couplings_[c_end - 1].block].tangent,
+                  0.0);
+    }
+    double* r = part.r.data();
+    double total = 0.0;
+    const int end = residual_part_begin_[k + 1];
+    for (int i = residual_part_begin_[k]; i < end; ++i) {
+      const Residual& res = residuals_[i];
+      const int n = res.cost->num_residuals();
+      const int num_params = res.count;
+      const int* block_of = &block_of_[res.begin];
+      for (int j = 0; j < num_params; ++j)
+        part.jacobians[j] = linearise && block_of[j] >= 0 ? part.raw[j].data() : nullptr;
+      if (!res.cost->Evaluate(&values_[res.begin], r,
+                              linearise ? part.jacobians.data() : nullptr)) {
+        part.ok = false;
+        return;
+      }
+      double squared = 0.0;
+      for (int j = 0; j < n; ++j) squared += r[j] * r[j];
+      double rho[3] = {squared, 1.0, 0.0};
+      if (res.loss) res.loss->Evaluate(squared, rho);
+      total += 0.5 * rho[0];
+      if (!linearise) continue;
+
+      // The Jacobians in tangent coordinates (row-major n x tangent): J P, P sparse.
+      for (int j = 0; j < num_params; ++j) {
+        if (block_of[j] < 0) continue;
+        const Block& b = blocks_[block_of[j]];
+        const double* J = part.raw[j].data();
+        double* Jt = part.tangent[j].data();
+        if (!b.manifold) {
+          std::copy_n(J, n * b.size, Jt);
+          continue;
+        }
+        std::fill_n(Jt, n * b.tangent, 0.0);
+        for (const PlusEntry& e : b.plus_entries)
+          for (int row = 0; row < n; ++row)
+            Jt[row * b.tangent + e.col] += J[row * b.size + e.row] * e.value;
+      }
+      // Triggs' correction (Ceres' Corrector): sqrt(rho') scales the residual and Jacobian,
+      // with a rank-one term when the loss is locally convex (rho'' > 0).
+      if (res.loss) {
+        const double sqrt_rho1 = std::sqrt(rho[1]);
+        double alpha = 0.0, residual_scaling = sqrt_rho1;
+        if (squared > 0.0 && rho[2] > 0.0) {
+          alpha = 1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
+          residual_scaling = sqrt_rho1 / (1.0 - alpha);
+        }
+        for (int j = 0; j < num_params; ++j) {
+          if (block_of[j] < 0) continue;
+          const int t = blocks_[block_of[j]].tangent;
+          double* Jt = part.tangent[j].data();
+          if (alpha != 0.0) {
+            for (int c = 0; c < t; ++c) {
+              double rJ = 0.0;
+              for (int row = 0; row < n; ++row) rJ += r[row] * Jt[row * t + c];
+              for (int row = 0; row < n; ++row) Jt[row * t + c] -= (alpha / squared) * r[row] * rJ;
+            }
+          }
+          for (int c = 0; c < n * t; ++c) Jt[c] *= sqrt_rho1;
+        }
+        for (int j = 0; j < n; ++j) r[j] *= residual_scaling;
+      }
+      // Accumulate J^T J and J^T r: block pairs into S (upper triangle), the point's V and
+      // g_p, the couplings W.
+      const int pk = res.point_parameter;
+      const double* Jp = pk >= 0 ? part.tangent[pk].data() : nullptr;
+      for (int a = 0; a < num_params; ++a) {
+        if (block_of[a] < 0) continue;
+        const Block& ba = blocks_[block_of[a]];
+        const int ta = ba.tangent;
+        const double* Ja = part.tangent[a].data();
+        double* g = a == pk ? g_p_[ba.point].data() : part.g.data() + ba.column;
+        AddTransposeProduct(Ja, ta, r, 1, n, g, 1);
+        if (a == pk) {
+          AddTransposeProduct(Ja, 3, Ja, 3, n, v_[ba.point].data(), 3);  // column-major 3 x 3
+          continue;
+        }
+        for (int b = 0; b < num_params; ++b) {
+          if (b == pk || block_of[b] < 0) continue;
+          const Block& bb = blocks_[block_of[b]];
+          if (bb.column < ba.column) continue;
+          AddTransposeProduct(Ja, ta, part.tangent[b].data(), bb.tangent, n,
+                              &part.s[compact_of_pair_[PairIndex(block_of[a], block_of[b])]], ta);
+        }
+        if (Jp)  // W: column-major ta x 3
+          AddTransposeProduct(Ja, ta, Jp, 3, n, &w_[couplings_[coupling_of_[res.begin + a]].offset],
+                              ta);
+      }
+    }
+    part.cost = total;
+  }
+
+  // Part k's points: the damped V^-1, and T = W V^-1 for each coupling (column-major
+  // tangent x 3, at W's offset in t_). False when a damped V is not positive definite.
+  bool InvertPoints(int k, double mu) {
+    for (int p = point_part_begin_[k]; p < point_part_begin_[k + 1]; ++p) {
+      Matrix3 v = v_[p];
+      for (int i = 0; i < 3; ++i) v(i, i) += mu * ClampDiagonal(v_[p](i, i));
+      const Eigen::LDLT<Matrix3> ldlt(v);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+      v_inverse_[p] = ldlt.solve(Matrix3::Identity());
+      const Matrix3& vi = v_inverse_[p];
+      for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
+        const int ta = blocks_[couplings_[a].block].tangent;
+        const double* __restrict W = &w_[couplings_[a].offset];
+        double* __restrict T = &t_[couplings_[a].offset];
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < ta; ++j)
+            T[c * ta + j] = W[j] * vi(0, c) + W[ta + j] * vi(1, c) + W[2 * ta + j] * vi(2, c);
+      }
+    }
+    return true;
+  }
+
+  // Rows [row_group_begin_[k], row_group_begin_[k + 1]) of the damped reduced system and its
+  // right-hand side: the undamped blocks plus mu D, minus T_a W_b^T for every point that couples
+  // a and b (a <= b), in point order.
+  void EliminatePoints(int k, double mu) {
+    const int row_begin = row_group_begin_[k], row_end = row_group_begin_[k + 1];
+    for (int a = row_begin; a < row_end; ++a) {
+      const int ta = blocks_[a].tangent;
+      const size_t begin = pair_offset_[pair_begin_[a]];
+      const size_t end =
+          a + 1 < num_column_blocks_ ? pair_offset_[pair_begin_[a + 1]] : s_blocks_.size();
+      std::copy(s_blocks_.begin() + begin, s_blocks_.begin() + end, work_.begin() + begin);
+      double* d = &work_[begin];  // (a, a) is the first block of its row
+      for (int i = 0; i < ta; ++i) d[i * ta + i] += mu * ClampDiagonal(d[i * ta + i]);
+      for (int i = 0; i < ta; ++i) rhs_[blocks_[a].column + i] = -g_c_[blocks_[a].column + i];
+    }
+    for (const int p : group_points_[k]) {
+      const int begin = point_couplings_begin_[p], end = point_couplings_begin_[p + 1];
+      const Eigen::Vector3d& gp = g_p_[p];
+      for (int a = begin; a < end; ++a) {
+        const int block_a = couplings_[a].block;
+        if (block_a < row_begin) continue;
+        if (block_a >= row_end) break;  // couplings are in block order
+        const int ta = blocks_[block_a].tangent;
+        const int column = blocks_[block_a].column;
+        const double* __restrict T = &t_[couplings_[a].offset];
+        for (int j = 0; j < ta; ++j)
+          rhs_[column + j] += T[j] * gp[0] + T[ta + j] * gp[1] + T[2 * ta + j] * gp[2];
+        // S_ab -= T_a W_b^T for a <= b. Couplings and each block row are in block order, so one
+        // walk along the row finds every b.
+        int pair = pair_begin_[block_a];
+        for (int b = a; b < end; ++b) {
+          const int block_b = couplings_[b].block;
+          while (pair_block_[pair] < block_b) ++pair;
+          const int tb = blocks_[block_b].tangent;
+          const double* __restrict Wb = &w_[couplings_[b].offset];
+          double* __restrict out = &work_[pair_offset_[pair]];
+          if (ta == 9 && tb == 9) {  // two image blocks: the common case, unrolled
+            SubtractSchurTerm9(T, Wb, out);
+            continue;
+          }
+          for (int c = 0; c < tb; ++c) {
+            const double w0 = Wb[c], w1 = Wb[tb + c], w2 = Wb[2 * tb + c];
+            double* __restrict o = out + c * ta;
+            for (int j = 0; j < ta; ++j) o[j] -= T[j] * w0 + T[ta + j] * w1 + T[2 * ta + j] * w2;
+          }
+        }
+      }
+    }
+  }
+
+  // Part k's points' steps delta_p = V^-1 (-g_p - W^T delta_c), with their terms of the model
+  // decrease. False when a step is not finite.
+  bool BackSubstitute(int k) {
+    for (int p = point_part_begin_[k]; p < point_part_begin_[k + 1]; ++p) {
+      Eigen::Vector3d b = -g_p_[p];
+      for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
+        const Block& ba = blocks_[couplings_[a].block];
+        const double* W = &w_[couplings_[a].offset];  // column-major tangent x 3
+        for (int c = 0; c < 3; ++c)
+          for (int j = 0; j < ba.tangent; ++j)
+            b[c] -= W[c * ba.tangent + j] * delta_c_[ba.column + j];
+      }
+      delta_p_[p] = v_inverse_[p] * b;
+      if (!delta_p_[p].allFinite()) return false;
+      point_g_delta_[p] = g_p_[p].dot(delta_p_[p]);
+      double dDd = 0.0;
+      for (int i = 0; i < 3; ++i)
+        dDd += ClampDiagonal(v_[p](i, i)) * delta_p_[p][i] * delta_p_[p][i];
+      point_dDd_[p] = dDd;
+    }
+    return true;
+  }
+
+  // Cuts the residuals into kParts runs of whole points (each point's residuals in one part,
+  // about as many residuals in each part), residuals without a point spread by their index; the
+  // residuals keep their order within a part.
+  void PartitionResiduals() {
+    const int n = static_cast<int>(residuals_.size());
+    std::vector<int> per_point(num_points_ + 1, 0);
+    for (Residual& r : residuals_) {
+      if (r.point_parameter < 0) continue;
+      r.point = blocks_[block_of_[r.begin + r.point_parameter]].point;
+      ++per_point[r.point + 1];
+    }
+    for (int p = 0; p < num_points_; ++p) per_point[p + 1] += per_point[p];  // residuals before
+    const int with_points = per_point[num_points_];
+    const auto part_of_point = [&](int p) {
+      return with_points > 0
+                 ? std::min(kParts - 1, static_cast<int>(static_cast<int64_t>(per_point[p]) *
+                                                         kParts / with_points))
+                 : 0;
+    };
+    point_part_begin_.assign(kParts + 1, num_points_);
+    for (int p = num_points_ - 1; p >= 0; --p)
+      for (int k = 0; k <= part_of_point(p); ++k) point_part_begin_[k] = p;
+    std::vector<int> part(n);
+    for (int i = 0; i < n; ++i)
+      part[i] = residuals_[i].point >= 0 ? part_of_point(residuals_[i].point)
+                                         : static_cast<int>(static_cast<int64_t>(i) * kParts / n);
+    std::vector<int> order(n);
+    for (int i = 0; i < n; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return part[a] < part[b]; });
+    std::vector<Residual> sorted(n);
+    residual_part_begin_.assign(kParts + 1, n);
+    for (int i = n - 1; i >= 0; --i) {
+      sorted[i] = residuals_[order[i]];
+      residual_part_begin_[part[order[i]]] = i;
+    }
+    for (int k = kParts - 1; k >= 0; --k)  // parts without residuals: empty ranges
+      residual_part_begin_[k] = std::min(residual_part_begin_[k], residual_part_begin_[k + 1]);
+    residuals_ = std::move(sorted);
+  }
+
+  // The blocks residuals write directly, with their offsets in the parts' compact buffers.
+  void BuildResidualPairs() {
+    compact_of_pair_.assign(pair_offset_.size(), 0);
+    std::vector<bool> used(pair_offset_.size(), false);
+    for (const Residual& r : residuals_)
+      for (int i = 0; i < r.count; ++i)
+        for (int j = 0; j < r.count; ++j) {
+          const int a = block_of_[r.begin + i], b = block_of_[r.begin + j];
+          if (i == r.point_parameter || j == r.point_parameter || a < 0 || b < 0 ||
+              blocks_[b].column < blocks_[a].column)
+            continue;
+          used[PairIndex(a, b)] = true;
+        }
+    size_t compact = 0;
+    for (int a = 0; a < num_column_blocks_; ++a)
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        if (!used[k]) continue;
+        const size_t size =
+            static_cast<size_t>(blocks_[a].tangent) * blocks_[pair_block_[k]].tangent;
+        residual_pairs_.push_back({pair_offset_[k], compact, size});
+        compact_of_pair_[k] = compact;
+        compact += size;
+      }
+    for (PartScratch& part : parts_) part.s.assign(compact, 0.0);
+  }
+
+  // Cuts the reduced system's block rows into kParts runs of about equal elimination work (the
+  // point pairs that update each row); SolveStep gives each run to one part, which applies every
+  // point's terms to its rows in point order, as one thread would.
+  void BuildRowGroups() {
+    std::vector<double> work(num_column_blocks_ + 1, 0.0);
+    for (int a = 0; a < num_column_blocks_; ++a) work[a] = pair_begin_[a + 1] - pair_begin_[a];
+    for (int p = 0; p < num_points_; ++p)
+      for (int i = point_couplings_begin_[p]; i < point_couplings_begin_[p + 1]; ++i)
+        work[couplings_[i].block] += point_couplings_begin_[p + 1] - i;
+    double total = 0.0;
+    for (int a = 0; a < num_column_blocks_; ++a) total += work[a];
+    row_group_begin_.assign(kParts + 1, num_column_blocks_);
+    row_group_begin_[0] = 0;
+    double done = 0.0;
+    int group = 1;
+    for (int a = 0; a < num_column_blocks_ && group < kParts; ++a) {
+      done += work[a];
+      while (group < kParts && done >= total * group / kParts) row_group_begin_[group++] = a + 1;
+    }
+    std::vector<int> group_of(num_column_blocks_);
+    for (int g = 0; g < kParts; ++g)
+      for (int a = row_group_begin_[g]; a < row_group_begin_[g + 1]; ++a) group_of[a] = g;
+    group_points_.assign(kParts, {});
+    for (int p = 0; p < num_points_; ++p) {
+      int last = -1;  // couplings are in block order: a point's groups come in order
+      for (int i = point_couplings_begin_[p]; i < point_couplings_begin_[p + 1]; ++i) {
+        const int g = group_of[couplings_[i].block];
+        if (g != last) group_points_[g].push_back(p);
+        last = g;
+      }
+    }
+  }
+
   // The reduced system's block structure: block (a, b), a <= b, exists when a residual or a
   // point involves both; each block row is sorted, its diagonal block first. The system is
   // factorised sparse when it has many columns and few blocks (a sequence: each image shares
@@ -579,11 +809,11 @@ class DenseSchurProblem {
     sparse_llt_.analyzePattern(sparse_s_);
   }
 
-  // The offset of block (a, b), a <= b, in s_blocks_.
-  size_t PairOffset(int a, int b) const {
+  // The index of block (a, b), a <= b, in pair_block_ / pair_offset_.
+  int PairIndex(int a, int b) const {
     const auto first = pair_block_.begin() + pair_begin_[a];
     const auto last = pair_block_.begin() + pair_begin_[a + 1];
-    return pair_offset_[std::lower_bound(first, last, b) - pair_block_.begin()];
+    return static_cast<int>(std::lower_bound(first, last, b) - pair_block_.begin());
   }
 
   // The scaled reduced system (work_) into the sparse matrix's values / a dense upper triangle.
@@ -668,7 +898,23 @@ class DenseSchurProblem {
   std::vector<Matrix3> v_inverse_;
   Eigen::VectorXd delta_c_;
   std::vector<Eigen::Vector3d> delta_p_;
+  std::vector<double> point_g_delta_;  // g_p . delta_p
+  std::vector<double> point_dDd_;      // delta_p^T D_p delta_p
   std::vector<double> backup_;
+  // The parts (kParts): residuals_[residual_part_begin_[k] .. [k + 1]) are points
+  // [point_part_begin_[k] .. [k + 1]); rows [row_group_begin_[k] .. [k + 1]) of the reduced
+  // system, updated by group_points_[k].
+  PartRunner runner_;
+  std::vector<int> residual_part_begin_;
+  std::vector<int> point_part_begin_;
+  std::vector<int> row_group_begin_;
+  std::vector<std::vector<int>> group_points_;
+  std::array<PartScratch, kParts> parts_;
+  std::array<bool, kParts> part_ok_{};
+  std::vector<ResidualPair> residual_pairs_;
+  std::vector<size_t> compact_of_pair_;  // per block pair: its compact offset (residual pairs)
+  std::vector<double> t_;                // W V^-1 per coupling, laid out as w_
+  Eigen::VectorXd rhs_;                  // the reduced system's right-hand side
 };
 
 }  // namespace
@@ -678,7 +924,7 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
                                       ceres::Problem* problem) {
   DenseSchurSummary summary;
   Timer timer;
-  DenseSchurProblem dense(eliminate, options.factorization, problem);
+  DenseSchurProblem dense(eliminate, options.factorization, options.num_threads, problem);
   summary.seconds_setup = timer.Seconds();
   summary.sparse = dense.sparse();
   summary.reduced_columns = dense.num_columns();

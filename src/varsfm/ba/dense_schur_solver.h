@@ -43,6 +43,9 @@ struct DenseSchurOptions {
   // kAuto: sparse beyond 1500 columns, or beyond 300 when its blocks fill less than a quarter.
   enum class Factorization { kAuto, kDense, kSparse };
   Factorization factorization = Factorization::kAuto;
+  // Threads (<= 1: the calling thread only). The work is cut into a fixed number of parts and
+  // summed in part order, so the result is the same bit for bit with any number of threads.
+  int num_threads = 1;
 };
 
 struct DenseSchurSummary {

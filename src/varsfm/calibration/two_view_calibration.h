@@ -36,7 +36,7 @@ struct TwoViewCalibrationOptions {
   double max_log_focal_std = 0.015;
   bool refine_distortion = true;
   double loss_scale_px = 1.0;  // Cauchy scale of the refinement
-  int num_threads = 1;         // of the refinement (1: reproducible bit for bit)
+  int num_threads = 0;         // of the refinement (bundle_adjuster.h: 0 = all cores)
 };
 
 struct TwoViewCalibration {

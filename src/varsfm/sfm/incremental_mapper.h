@@ -90,9 +90,9 @@ struct IncrementalMapperOptions {
 
   // The bundle adjustments' linear solver (kAuto: chosen by the number of images).
   BundleAdjustmentOptions::Solver ba_solver = BundleAdjustmentOptions::Solver::kAuto;
-  // Bundle adjustment threads; 1 (default) is bit-for-bit reproducible, 0 uses all cores
-  // (faster, equal only to rounding; see ba/bundle_adjuster.h).
-  int num_threads = 1;
+  // Bundle adjustment threads (0: all cores for the native solver, whose result is the same bit
+  // for bit with any number; see ba/bundle_adjuster.h).
+  int num_threads = 0;
   uint64_t seed = kDefaultSeed;
   // Called after each registration: (registered, total, RMS reprojection error px).
   std::function<void(size_t, size_t, double)> progress;
