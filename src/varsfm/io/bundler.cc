@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -65,17 +66,21 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
         "{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
         "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
         file.string(), num_dropped, worst_deviation);
+  fmt::memory_buffer buffer;  // one line at a time: see WriteImagesText (colmap_model.cc)
   for (const auto& [id, point] : rec.points3D()) {
-    out << fmt::format("{} {} {}\n{} {} {}\n{}", point.xyz.x(), point.xyz.y(), point.xyz.z(),
-                       point.color[0], point.color[1], point.color[2], point.track.size());
+    buffer.clear();
+    auto it = std::back_inserter(buffer);
+    fmt::format_to(it, "{} {} {}\n{} {} {}\n{}", point.xyz.x(), point.xyz.y(), point.xyz.z(),
+                   point.color[0], point.color[1], point.color[2], point.track.size());
     for (const TrackElement& el : point.track) {
       const Image& image = rec.image(el.image_id);
       const Camera& camera = rec.camera(image.camera_id);
       const Eigen::Vector2d& xy = image.points2D.at(el.point2D_idx).xy;
-      out << fmt::format(" {} {} {} {}", index.at(el.image_id), el.point2D_idx,
-                         xy.x() - 0.5 * camera.width, 0.5 * camera.height - xy.y());
+      fmt::format_to(it, " {} {} {} {}", index.at(el.image_id), el.point2D_idx,
+                     xy.x() - 0.5 * camera.width, 0.5 * camera.height - xy.y());
     }
-    out << '\n';
+    buffer.push_back('\n');
+    out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   }
   out.close();
   if (!out) Fail("{}: write failed", file.string());
