@@ -139,7 +139,7 @@ bool AnalyticReprojectionCost::Evaluate(double const* const* parameters, double*
     group = parameters[b];
     d_group = J(b++, Camera::kNumParams);
   }
-  const double *rotation, *translation;
+  const double *rotation = nullptr, *translation = nullptr;
   JacobianOut d_rotation, d_translation;
   switch (blocks_) {
     case ReprojectionBlocks::kCameraRotationTranslation:

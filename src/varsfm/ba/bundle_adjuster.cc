@@ -546,11 +546,12 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     result.report = fmt::format(
         "native Schur LM ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
         "{:.6e}; s: setup {:.4f}, "
-        "linearise {:.4f}, residuals {:.4f}, solve {:.4f}; total {:.4f})",
+        "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
         summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
         summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
         summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
-        summary.seconds_residuals, summary.seconds_solve, timer.Seconds());
+        summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise,
+        timer.Seconds());
   } else {
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);

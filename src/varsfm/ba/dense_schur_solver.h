@@ -22,7 +22,7 @@
 // with the residuals and Jacobians of each block corrected for its loss (Triggs' eq. 11), the
 // points (the blocks to eliminate) removed by the Schur complement
 //   (S - W V^-1 W^T) delta_c = -g_c + W V^-1 g_p,   delta_p = V^-1 (-g_p - W^T delta_c),
-// the reduced system Jacobi-scaled and factorised by dense Cholesky, and the radius updated from
+// the reduced system Jacobi-scaled and factorised by Cholesky, and the radius updated from
 // the ratio of actual to predicted decrease as Ceres does (x 1 / max(1/3, 1 - (2 rho - 1)^3) on
 // success, / 2, 4, 8... on failure).
 #include <string>
@@ -38,8 +38,8 @@ struct DenseSchurOptions {
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
   double initial_trust_region_radius = 1e4;
-  // The reduced system's factorisation: dense Cholesky, or a sparse one (Eigen's simplicial
-  // LLT, AMD ordering) for a large system with few blocks (a sequence's banded camera graph);
+  // The reduced system's factorisation (cholesky.h): dense, or sparse (CHOLMOD's supernodal
+  // LLT) for a large system with few blocks (a sequence's banded camera graph);
   // kAuto: sparse beyond 1500 columns, or beyond 300 when its blocks fill less than a quarter.
   enum class Factorization { kAuto, kDense, kSparse };
   Factorization factorization = Factorization::kAuto;
@@ -66,6 +66,7 @@ struct DenseSchurSummary {
   double seconds_linearise = 0.0;
   double seconds_residuals = 0.0;
   double seconds_solve = 0.0;
+  double seconds_factorise = 0.0;  // of which the reduced system's Cholesky factorisations
 };
 
 // Solves `problem` in place. `eliminate`: the parameter blocks removed by the Schur complement

@@ -19,7 +19,7 @@ bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int h
   if (!focals || focals->first < 0.3 * size1 || focals->first > 5 * size1 ||
       focals->second < 0.3 * size2 || focals->second > 5 * size2)
     return false;
-  for (const Eigen::Vector2d dir : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1),
+  for (const Eigen::Vector2d& dir : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1),
                                     Eigen::Vector2d(-1, 0), Eigen::Vector2d(0, -1)}) {
     for (int which = 0; which < 2; ++which) {
       const auto moved =
