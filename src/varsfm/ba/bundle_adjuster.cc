@@ -428,7 +428,6 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   const std::vector<Observation> observations = CollectObservations(config, rec);
   result.num_residuals = static_cast<int>(observations.size());
   if (observations.empty()) return result;
-  result.initial_rms_px = RmsError(rec, observations);
 
   std::set<image_t> problem_images;
   std::set<camera_t> problem_cameras;
@@ -528,6 +527,11 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
       ordering->AddElementToGroup(group, 1);
   solver_options.linear_solver_ordering = ordering;
 
+  // The native solver reports the RMS from its own residuals (below); for Ceres it is computed
+  // here, before the parameters move.
+  const double initial_rms =
+      solver == Solver::kNativeDenseSchur ? 0.0 : RmsError(rec, observations);
+  bool rms_from_solver = false;
   if (solver == Solver::kNativeDenseSchur) {
     DenseSchurOptions native;
     native.max_iterations = options.max_iterations;
@@ -542,6 +546,13 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     for (const point3D_t id : problem_points) points.push_back(buffer.point(id));
     const DenseSchurSummary summary = SolveWithDenseSchur(native, points, &problem);
     result.success = summary.usable;
+    // The RMS from the solver's own residuals (one per observation): two passes over the
+    // observations less (they took 3 % of a 100-image sequence's mapping).
+    if (summary.usable) {
+      rms_from_solver = true;
+      result.initial_rms_px = std::sqrt(summary.initial_squared_norm / observations.size());
+      result.final_rms_px = std::sqrt(summary.final_squared_norm / observations.size());
+    }
     result.iterations = summary.successful_steps + summary.unsuccessful_steps;
     result.report = fmt::format(
         "native Schur LM ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
@@ -563,7 +574,11 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   if (options.verbose && solver == Solver::kNativeDenseSchur)
     std::printf("%s\n", result.report.c_str());
   buffer.CopyTo(config, &rec);
-  result.final_rms_px = RmsError(rec, observations);
+  if (!rms_from_solver) {
+    result.final_rms_px = RmsError(rec, observations);
+    // The native solver fails only before its first step: the parameters have not moved.
+    result.initial_rms_px = solver == Solver::kNativeDenseSchur ? result.final_rms_px : initial_rms;
+  }
   result.seconds = timer.Seconds();
   return result;
 }

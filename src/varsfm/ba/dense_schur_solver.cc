@@ -172,6 +172,7 @@ struct PartScratch {
   std::vector<double> s;  // residual-coupled blocks, at their compact offsets
   Eigen::VectorXd g;
   double cost = 0.0;
+  double squared_norm = 0.0;  // sum |r|^2, without the loss
   bool ok = true;
 };
 
@@ -285,6 +286,8 @@ class DenseSchurProblem {
 
   int num_columns() const { return num_columns_; }
   double seconds_factorise() const { return seconds_factorise_; }
+  // sum |r|^2 (no loss) at the parameters of the last Evaluate.
+  double squared_norm() const { return squared_norm_; }
   bool sparse() const { return sparse_; }
   double fill() const { return fill_; }
 
@@ -297,12 +300,14 @@ class DenseSchurProblem {
       for (Block& b : blocks_)
         if (!UpdatePlusJacobian(&b)) return false;
     runner_.Run([&](int k) { EvaluatePart(k, linearise); });
-    double total = 0.0;
+    double total = 0.0, squared_norm = 0.0;
     for (const PartScratch& part : parts_) {
       if (!part.ok) return false;
       total += part.cost;
+      squared_norm += part.squared_norm;
     }
     *cost = total;
+    squared_norm_ = squared_norm;
     if (!linearise) return true;
     g_c_ = parts_[0].g;
     for (int k = 1; k < kParts; ++k) g_c_ += parts_[k].g;
@@ -426,6 +431,7 @@ class DenseSchurProblem {
   VARSFM_CPU_CLONES void EvaluatePart(int k, bool linearise) {
     PartScratch& part = parts_[k];
     part.cost = 0.0;
+    part.squared_norm = 0.0;
     part.ok = true;
     const int max_params = max_parameters_;
     if (part.r.empty()) {
@@ -477,6 +483,7 @@ class DenseSchurProblem {
       double rho[3] = {squared, 1.0, 0.0};
       if (res.loss) res.loss->Evaluate(squared, rho);
       total += 0.5 * rho[0];
+      part.squared_norm += squared;
       if (!linearise) continue;
 
       // The Jacobians in tangent coordinates (row-major n x tangent): J P, P sparse.
@@ -937,6 +944,7 @@ class DenseSchurProblem {
   std::vector<double> t_;                // W V^-1 per coupling, laid out as w_
   Eigen::VectorXd rhs_;                  // the reduced system's right-hand side
   double seconds_factorise_ = 0.0;       // SolveStep's factorisations, summed
+  double squared_norm_ = 0.0;
 };
 
 }  // namespace
@@ -964,6 +972,7 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
   }
   summary.usable = true;
   summary.initial_cost = summary.final_cost = cost;
+  summary.initial_squared_norm = summary.final_squared_norm = dense.squared_norm();
   double radius = options.initial_trust_region_radius;
   double decrease_factor = 2.0;
   while (true) {
@@ -979,7 +988,7 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
     const double mu = 1.0 / radius;
     double model_decrease = 0.0, step_norm = 0.0;
     bool accepted = false;
-    double new_cost = cost;
+    double new_cost = cost, new_squared_norm = 0.0;
     Timer solve_timer;
     const bool solved = dense.SolveStep(mu, &model_decrease, &step_norm);
     summary.seconds_solve += solve_timer.Seconds();
@@ -993,6 +1002,7 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
       if (model_decrease > 0.0 && dense.Step()) {
         const Timer t;
         const bool evaluated = dense.Evaluate(/*linearise=*/false, &new_cost);
+        new_squared_norm = dense.squared_norm();
         summary.seconds_residuals += t.Seconds();
         if (evaluated && std::isfinite(new_cost)) {
           const double rho = (cost - new_cost) / model_decrease;
@@ -1020,6 +1030,7 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
     const double relative_change = (cost - new_cost) / cost;
     cost = new_cost;
     summary.final_cost = cost;
+    summary.final_squared_norm = new_squared_norm;
     if (relative_change <= options.function_tolerance) {
       summary.converged = true;
       summary.message = "function tolerance reached";

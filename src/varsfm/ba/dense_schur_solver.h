@@ -55,6 +55,9 @@ struct DenseSchurSummary {
   int unsuccessful_steps = 0;
   double initial_cost = 0.0;  // 1/2 sum rho(|r|^2), as Ceres reports it
   double final_cost = 0.0;
+  // sum |r|^2 without the loss, at the start and at the solution (for an RMS).
+  double initial_squared_norm = 0.0;
+  double final_squared_norm = 0.0;
   bool sparse = false;        // the reduced system was factorised sparse
   int reduced_columns = 0;    // its size
   double reduced_fill = 0.0;  // the fraction of its upper triangle its blocks cover
