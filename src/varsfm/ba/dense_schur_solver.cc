@@ -173,7 +173,6 @@ struct PartScratch {
   Eigen::VectorXd g;
   double cost = 0.0;
   double squared_norm = 0.0;  // sum |r|^2, without the loss
-  bool ok = true;
 };
 
 class DenseSchurProblem {
@@ -299,10 +298,10 @@ class DenseSchurProblem {
     if (linearise)
       for (Block& b : blocks_)
         if (!UpdatePlusJacobian(&b)) return false;
-    runner_.Run([&](int k) { EvaluatePart(k, linearise); });
+    runner_.Run([&](int k) { part_ok_[k] = EvaluatePart(k, linearise); });
+    if (!AllPartsOk()) return false;
     double total = 0.0, squared_norm = 0.0;
     for (const PartScratch& part : parts_) {
-      if (!part.ok) return false;
       total += part.cost;
       squared_norm += part.squared_norm;
     }
@@ -336,7 +335,7 @@ class DenseSchurProblem {
     // V^-1 and T = W V^-1 of every point, then each part's rows of the reduced system and its
     // right-hand side: S + mu D - sum_p T_p W_p^T and -g_c + sum_p T_p g_p.
     runner_.Run([&](int k) { part_ok_[k] = InvertPoints(k, mu); });
-    if (std::find(part_ok_.begin(), part_ok_.end(), false) != part_ok_.end()) return false;
+    if (!AllPartsOk()) return false;
     work_.resize(s_blocks_.size());
     rhs_.resize(num_columns_);
     runner_.Run([&](int k) { EliminatePoints(k, mu); });
@@ -377,7 +376,7 @@ class DenseSchurProblem {
       }
     }
     runner_.Run([&](int k) { part_ok_[k] = BackSubstitute(k); });
-    if (std::find(part_ok_.begin(), part_ok_.end(), false) != part_ok_.end()) return false;
+    if (!AllPartsOk()) return false;
     double g_delta = g_c_.dot(delta_c_);
     double norm2 = delta_c_.squaredNorm();
     for (int p = 0; p < num_points_; ++p) {  // in point order, whatever the parts
@@ -426,24 +425,18 @@ class DenseSchurProblem {
   }
 
  private:
+  bool AllPartsOk() const {
+    return std::find(part_ok_.begin(), part_ok_.end(), false) == part_ok_.end();
+  }
+
   // One part's residuals into its buffers (see Evaluate); the W, V and g_p of its points are
-  // zeroed and summed here, as no other part writes them.
-  VARSFM_CPU_CLONES void EvaluatePart(int k, bool linearise) {
+  // zeroed and summed here, as no other part writes them. False when a cost function fails.
+  // The products are plain loops: the blocks are a few parameters wide, where Eigen's
+  // dynamic-size expressions cost more than the arithmetic (they took 40 % of the solver's time).
+  VARSFM_CPU_CLONES bool EvaluatePart(int k, bool linearise) {
     PartScratch& part = parts_[k];
     part.cost = 0.0;
     part.squared_norm = 0.0;
-    part.ok = true;
-    const int max_params = max_parameters_;
-    if (part.r.empty()) {
-      part.r.resize(max_residuals_);
-      part.raw.resize(max_params);
-      part.tangent.resize(max_params);
-      part.jacobians.assign(max_params, nullptr);
-      for (int j = 0; j < max_params; ++j) {
-        part.raw[j].resize(max_residuals_ * max_block_size_);
-        part.tangent[j].resize(max_residuals_ * max_block_size_);
-      }
-    }
     if (linearise) {
       std::fill(part.s.begin(), part.s.end(), 0.0);
       part.g.setZero(num_columns_);
@@ -473,11 +466,8 @@ class DenseSchurProblem {
       const int* block_of = &block_of_[res.begin];
       for (int j = 0; j < num_params; ++j)
         part.jacobians[j] = linearise && block_of[j] >= 0 ? part.raw[j].data() : nullptr;
-      if (!res.cost->Evaluate(&values_[res.begin], r,
-                              linearise ? part.jacobians.data() : nullptr)) {
-        part.ok = false;
-        return;
-      }
+      if (!res.cost->Evaluate(&values_[res.begin], r, linearise ? part.jacobians.data() : nullptr))
+        return false;
       double squared = 0.0;
       for (int j = 0; j < n; ++j) squared += r[j] * r[j];
       double rho[3] = {squared, 1.0, 0.0};
@@ -553,6 +543,7 @@ class DenseSchurProblem {
       }
     }
     part.cost = total;
+    return true;
   }
 
   // Part k's points: the damped V^-1, and T = W V^-1 for each coupling (column-major
@@ -690,7 +681,8 @@ class DenseSchurProblem {
     residuals_ = std::move(sorted);
   }
 
-  // The blocks residuals write directly, with their offsets in the parts' compact buffers.
+  // The blocks residuals write directly, with their offsets in the parts' compact buffers; the
+  // parts' buffers.
   void BuildResidualPairs() {
     compact_of_pair_.assign(pair_offset_.size(), 0);
     std::vector<bool> used(pair_offset_.size(), false);
@@ -713,7 +705,13 @@ class DenseSchurProblem {
         compact_of_pair_[k] = compact;
         compact += size;
       }
-    for (PartScratch& part : parts_) part.s.assign(compact, 0.0);
+    for (PartScratch& part : parts_) {  // and the parts' per-residual scratch
+      part.s.assign(compact, 0.0);
+      part.r.resize(max_residuals_);
+      part.jacobians.assign(max_parameters_, nullptr);
+      part.raw.assign(max_parameters_, std::vector<double>(max_residuals_ * max_block_size_));
+      part.tangent.assign(max_parameters_, std::vector<double>(max_residuals_ * max_block_size_));
+    }
   }
 
   // Cuts the reduced system's block rows into kParts runs of about equal elimination work (the
