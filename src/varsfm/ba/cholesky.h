@@ -15,9 +15,9 @@
 
 namespace varsfm {
 
-// Solves S x = b for a symmetric positive definite S given by its upper triangle (the lower one
-// is overwritten). LAPACK's dpotrf/dpotrs from 512 columns, Eigen's LLT below (where the call
-// costs more than the kernels save). False when S is not positive definite.
+// Solves S x = b for a symmetric positive definite S given by its upper triangle (which its
+// Cholesky factor overwrites). LAPACK's dpotrf/dpotrs from 512 columns, Eigen's LLT below (where
+// the call costs more than the kernels save). False when S is not positive definite.
 bool SolveDenseCholesky(Eigen::MatrixXd* upper, const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
 // CHOLMOD's supernodal LLT of a sparse SPD matrix given by its upper triangle: analyse the
