@@ -1,7 +1,9 @@
 #include "varsfm/ba/bundle_adjuster.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <memory>
 #include <thread>
@@ -343,7 +345,7 @@ std::vector<int> Bits(unsigned mask, int size) {
   return bits;
 }
 
-// A manifold of `size` parameters of which those in `held` stay constant; null when none is.
+// A manifold of `size` parameters of which those in `held` stay constant (Euclidean: none).
 std::unique_ptr<ceres::Manifold> Subset(int size, unsigned held) {
   if (held == 0) return std::make_unique<ceres::EuclideanManifold<ceres::DYNAMIC>>(size);
   return std::make_unique<ceres::SubsetManifold>(size, Bits(held, size));
@@ -358,27 +360,57 @@ std::pair<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>> Po
           Subset(3, hold.kind == PoseHold::kScale ? 1u << hold.coordinate : 0u)};
 }
 
-// The manifold of a pose block [quaternion, centre] or an image block [camera, quaternion,
-// centre] (held_camera: the camera parameters it holds); constant when nothing in it is free.
-void SetPoseManifold(const PoseHold& hold, double* pose, ceres::Problem* problem) {
-  using Pose =
-      ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>>;
-  if (hold.kind == PoseHold::kConstant) return problem->SetParameterBlockConstant(pose);
-  auto [rotation, centre] = PoseManifolds(hold);
-  problem->SetManifold(pose, new Pose(std::move(rotation), std::move(centre)));
+// A parameter block of the problem and how it is held: constant, or through its manifold (null:
+// every parameter free).
+struct ParameterBlockSpec {
+  double* x = nullptr;
+  int size = 0;
+  std::unique_ptr<ceres::Manifold> manifold;
+  bool constant = false;
+};
+
+constexpr unsigned kAllCameraParams = (1u << Camera::kNumParams) - 1;
+
+// A camera block (or a shared per-size block) holding the parameters in `held`.
+ParameterBlockSpec CameraBlock(double* x, unsigned held) {
+  ParameterBlockSpec spec{x, Camera::kNumParams, nullptr, false};
+  if (held == kAllCameraParams)
+    spec.constant = true;
+  else if (held != 0)
+    spec.manifold =
+        std::make_unique<ceres::SubsetManifold>(Camera::kNumParams, Bits(held, Camera::kNumParams));
+  return spec;
 }
 
-void SetImageManifold(const PoseHold& hold, unsigned held_camera, double* block,
-                      ceres::Problem* problem) {
+// A pose block [quaternion, centre].
+ParameterBlockSpec PoseBlock(const PoseHold& hold, double* pose) {
+  using Pose =
+      ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>>;
+  ParameterBlockSpec spec{pose, 7, nullptr, false};
+  if (hold.kind == PoseHold::kConstant) {
+    spec.constant = true;
+  } else {
+    auto [rotation, centre] = PoseManifolds(hold);
+    spec.manifold = std::make_unique<Pose>(std::move(rotation), std::move(centre));
+  }
+  return spec;
+}
+
+// An image block [camera, quaternion, centre] (held_camera: the camera parameters it holds);
+// constant when nothing in it is free.
+ParameterBlockSpec ImageBlock(const PoseHold& hold, unsigned held_camera, double* block) {
   using Image =
       ceres::ProductManifold<std::unique_ptr<ceres::Manifold>, std::unique_ptr<ceres::Manifold>,
                              std::unique_ptr<ceres::Manifold>>;
-  const unsigned all_camera = (1u << Camera::kNumParams) - 1;
-  if (hold.kind == PoseHold::kConstant && held_camera == all_camera)
-    return problem->SetParameterBlockConstant(block);
-  auto [rotation, centre] = PoseManifolds(hold);
-  problem->SetManifold(block, new Image(Subset(Camera::kNumParams, held_camera),
-                                        std::move(rotation), std::move(centre)));
+  ParameterBlockSpec spec{block, Camera::kNumParams + 7, nullptr, false};
+  if (hold.kind == PoseHold::kConstant && held_camera == kAllCameraParams) {
+    spec.constant = true;
+  } else {
+    auto [rotation, centre] = PoseManifolds(hold);
+    spec.manifold = std::make_unique<Image>(Subset(Camera::kNumParams, held_camera),
+                                            std::move(rotation), std::move(centre));
+  }
+  return spec;
 }
 
 }  // namespace
@@ -444,88 +476,64 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   ParameterBuffer buffer(rec, problem_images, shared_sizes, group_members, shared_mask,
                          problem_points);
 
-  ceres::Problem problem;  // takes ownership of costs, the shared loss and manifolds
-  ceres::LossFunction* loss = MakeLoss(options);
-  std::vector<double*> blocks;
-  for (const Observation& o : observations) {
-    const Image& image = rec.image(o.image_id);
-    const Camera& camera = rec.camera(image.camera_id);
-    double* group = buffer.group(camera);
-    const bool image_block = buffer.HasImageBlock(o.image_id);
-    blocks = {buffer.camera(image.camera_id)};
-    if (group) blocks.push_back(group);
-    if (!image_block) blocks.push_back(buffer.pose(o.image_id));
-    blocks.push_back(buffer.point(o.point3D_id));
-    problem.AddResidualBlock(
-        new AnalyticReprojectionCost(
-            image.points2D[o.point2D_idx].xy,
-            image_block ? ReprojectionBlocks::kImage : ReprojectionBlocks::kCameraPose,
-            group ? std::optional<unsigned>(shared_mask) : std::nullopt),
-        loss, blocks);
-  }
-
-  // A camera holds what the options hold and every shared parameter (unused when it is in a
-  // group, held when its size formed none); a group block holds what the options hold and every
-  // parameter that is not shared.
-  const unsigned held_mask = HeldIntrinsicsMask(options.intrinsics);
-  const unsigned all = (1u << Camera::kNumParams) - 1;
-  const auto held_camera = [&](camera_t id) {
-    return config.constant_cameras.count(id) ? all : held_mask | shared_mask;
-  };
-  const auto hold = [&problem, all](double* block, unsigned held) {
-    if (held == all) return problem.SetParameterBlockConstant(block);
-    if (held != 0)
-      problem.SetManifold(
-          block, new ceres::SubsetManifold(Camera::kNumParams, Bits(held, Camera::kNumParams)));
-  };
-  std::set<camera_t> in_image_blocks;
-  const size_t num_constant_points =
-      std::count_if(problem_points.begin(), problem_points.end(),
-                    [&config](point3D_t id) { return config.constant_points.count(id) > 0; });
-  for (const auto& [id, hold_pose] : PoseHolds(config, problem_images, num_constant_points, rec)) {
-    const camera_t camera_id = rec.image(id).camera_id;
-    if (buffer.HasImageBlock(id)) {
-      SetImageManifold(hold_pose, held_camera(camera_id), buffer.camera(camera_id), &problem);
-      in_image_blocks.insert(camera_id);
-    } else {
-      SetPoseManifold(hold_pose, buffer.pose(id), &problem);
+  // The residuals, one per observation, with the blocks they use; `add` receives each.
+  std::set<double*> used_groups;
+  const auto for_each_residual = [&](auto&& add) {
+    std::array<double*, 4> blocks{};
+    for (const Observation& o : observations) {
+      const Image& image = rec.image(o.image_id);
+      const Camera& camera = rec.camera(image.camera_id);
+      double* group = buffer.group(camera);
+      const bool image_block = buffer.HasImageBlock(o.image_id);
+      int count = 0;
+      blocks[count++] = buffer.camera(image.camera_id);
+      if (group) blocks[count++] = group, used_groups.insert(group);
+      if (!image_block) blocks[count++] = buffer.pose(o.image_id);
+      blocks[count++] = buffer.point(o.point3D_id);
+      add(image.points2D[o.point2D_idx].xy,
+          image_block ? ReprojectionBlocks::kImage : ReprojectionBlocks::kCameraPose,
+          group ? std::optional<unsigned>(shared_mask) : std::nullopt, blocks.data(), count);
     }
-  }
-  for (const auto& [id, offset] : buffer.cameras())
-    if (!in_image_blocks.count(id)) hold(buffer.camera(id), held_camera(id));
-  for (const auto& [size, offset] : buffer.groups())
-    if (double* group = buffer.group(size); problem.HasParameterBlock(group))
-      hold(group, held_mask | (all & ~shared_mask));
-  for (const point3D_t id : problem_points)
-    if (config.constant_points.count(id)) problem.SetParameterBlockConstant(buffer.point(id));
+  };
 
-  ceres::Solver::Options solver_options;
-  solver_options.minimizer_type = ceres::TRUST_REGION;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.gradient_tolerance = options.gradient_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  // Ceres' multi-threaded sums depend on the scheduling: one thread unless asked for more.
-  solver_options.num_threads = std::max(1, options.num_threads);
-  solver_options.minimizer_progress_to_stdout = options.verbose;
-  solver_options.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+  // Every block the residuals use and how it is held. A camera holds what the options hold and
+  // every shared parameter (unused when it is in a group, held when its size formed none); a
+  // group block holds what the options hold and every parameter that is not shared.
+  const auto describe_blocks = [&] {
+    std::vector<ParameterBlockSpec> specs;
+    const unsigned held_mask = HeldIntrinsicsMask(options.intrinsics);
+    const auto held_camera = [&](camera_t id) {
+      return config.constant_cameras.count(id) ? kAllCameraParams : held_mask | shared_mask;
+    };
+    std::set<camera_t> in_image_blocks;
+    const size_t num_constant_points =
+        std::count_if(problem_points.begin(), problem_points.end(),
+                      [&config](point3D_t id) { return config.constant_points.count(id) > 0; });
+    for (const auto& [id, hold_pose] :
+         PoseHolds(config, problem_images, num_constant_points, rec)) {
+      const camera_t camera_id = rec.image(id).camera_id;
+      if (buffer.HasImageBlock(id)) {
+        specs.push_back(ImageBlock(hold_pose, held_camera(camera_id), buffer.camera(camera_id)));
+        in_image_blocks.insert(camera_id);
+      } else {
+        specs.push_back(PoseBlock(hold_pose, buffer.pose(id)));
+      }
+    }
+    for (const auto& [id, offset] : buffer.cameras())
+      if (!in_image_blocks.count(id))
+        specs.push_back(CameraBlock(buffer.camera(id), held_camera(id)));
+    for (const auto& [size, offset] : buffer.groups())
+      if (double* group = buffer.group(size); used_groups.count(group))
+        specs.push_back(CameraBlock(group, held_mask | (kAllCameraParams & ~shared_mask)));
+    for (const point3D_t id : problem_points)
+      specs.push_back({buffer.point(id), 3, nullptr, config.constant_points.count(id) > 0});
+    return specs;
+  };
+
   Solver solver = options.solver;
   if (solver == Solver::kAuto) solver = ChooseSolver(config.variable_pose_images.size());
   if (solver == Solver::kCeresAuto) solver = ChooseCeresSolver(config.variable_pose_images.size());
-  result.solver = ConfigureLinearSolver(solver, &solver_options);
-  // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
-  // orders blocks by address, which the buffer makes the id order.
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (const point3D_t id : problem_points) ordering->AddElementToGroup(buffer.point(id), 0);
-  for (const image_t id : problem_images)
-    if (!buffer.HasImageBlock(id)) ordering->AddElementToGroup(buffer.pose(id), 1);
-  for (const auto& [id, offset] : buffer.cameras())
-    ordering->AddElementToGroup(buffer.camera(id), 1);
-  for (const auto& [size, offset] : buffer.groups())
-    if (double* group = buffer.group(size); problem.HasParameterBlock(group))
-      ordering->AddElementToGroup(group, 1);
-  solver_options.linear_solver_ordering = ordering;
+  const std::unique_ptr<ceres::LossFunction> loss(MakeLoss(options));
 
   // The native solver reports the RMS from its own residuals (below); for Ceres it is computed
   // here, before the parameters move.
@@ -533,6 +541,22 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
       solver == Solver::kNativeDenseSchur ? 0.0 : RmsError(rec, observations);
   bool rms_from_solver = false;
   if (solver == Solver::kNativeDenseSchur) {
+    result.solver = "NATIVE_DENSE_SCHUR";
+    // The blocks go to the solver directly (SchurProblem), the cost functions one after the
+    // other in a deque rather than one heap object each.
+    std::deque<AnalyticReprojectionCost> costs;
+    SchurProblem problem;
+    problem.Reserve(problem_images.size() * 2 + problem_points.size(), observations.size(),
+                    observations.size() * 3);
+    for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
+                          std::optional<unsigned> shared, double* const* blocks, int count) {
+      costs.emplace_back(xy, kind, shared);
+      problem.AddResidualBlock(&costs.back(), loss.get(), blocks, count);
+    });
+    const std::vector<ParameterBlockSpec> specs = describe_blocks();
+    for (const ParameterBlockSpec& spec : specs)
+      problem.AddParameterBlock(spec.x, spec.size, spec.manifold.get(), spec.constant);
+
     DenseSchurOptions native;
     native.max_iterations = options.max_iterations;
     native.function_tolerance = options.function_tolerance;
@@ -544,7 +568,7 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     std::vector<double*> points;
     points.reserve(problem_points.size());
     for (const point3D_t id : problem_points) points.push_back(buffer.point(id));
-    const DenseSchurSummary summary = SolveWithDenseSchur(native, points, &problem);
+    const DenseSchurSummary summary = SolveWithDenseSchur(native, points, problem);
     result.success = summary.usable;
     // The RMS from the solver's own residuals (one per observation): two passes over the
     // observations less (they took 3 % of a 100-image sequence's mapping).
@@ -564,6 +588,45 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
         summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise,
         timer.Seconds());
   } else {
+    ceres::Solver::Options solver_options;
+    solver_options.minimizer_type = ceres::TRUST_REGION;
+    solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    solver_options.max_num_iterations = options.max_iterations;
+    solver_options.function_tolerance = options.function_tolerance;
+    solver_options.gradient_tolerance = options.gradient_tolerance;
+    solver_options.parameter_tolerance = options.parameter_tolerance;
+    // Ceres' multi-threaded sums depend on the scheduling: one thread unless asked for more.
+    solver_options.num_threads = std::max(1, options.num_threads);
+    solver_options.minimizer_progress_to_stdout = options.verbose;
+    solver_options.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+    result.solver = ConfigureLinearSolver(solver, &solver_options);
+
+    // The problem owns the costs and manifolds, not the loss (`loss` does).
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
+                          std::optional<unsigned> shared, double* const* blocks, int count) {
+      problem.AddResidualBlock(new AnalyticReprojectionCost(xy, kind, shared), loss.get(), blocks,
+                               count);
+    });
+    for (ParameterBlockSpec& spec : describe_blocks()) {
+      if (spec.constant)
+        problem.SetParameterBlockConstant(spec.x);
+      else if (spec.manifold)
+        problem.SetManifold(spec.x, spec.manifold.release());
+    }
+    // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
+    // orders blocks by address, which the buffer makes the id order.
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (const point3D_t id : problem_points) ordering->AddElementToGroup(buffer.point(id), 0);
+    for (const image_t id : problem_images)
+      if (!buffer.HasImageBlock(id)) ordering->AddElementToGroup(buffer.pose(id), 1);
+    for (const auto& [id, offset] : buffer.cameras())
+      ordering->AddElementToGroup(buffer.camera(id), 1);
+    for (double* group : used_groups) ordering->AddElementToGroup(group, 1);
+    solver_options.linear_solver_ordering = ordering;
+
     ceres::Solver::Summary summary;
     ceres::Solve(solver_options, &problem, &summary);
     if (options.verbose) std::printf("%s\n", summary.FullReport().c_str());

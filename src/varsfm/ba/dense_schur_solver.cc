@@ -177,45 +177,56 @@ struct PartScratch {
 
 class DenseSchurProblem {
  public:
+  // Fails (ok() false) when a residual uses a block that was not added to the problem.
   DenseSchurProblem(const std::vector<double*>& eliminate,
                     DenseSchurOptions::Factorization factorization, int num_threads,
-                    ceres::Problem* problem)
-      : factorization_(factorization), runner_(num_threads) {
-    std::vector<ceres::ResidualBlockId> ids;
-    problem->GetResidualBlocks(&ids);
-    residuals_.resize(ids.size());
-    std::vector<double*> parameters;
-    for (size_t i = 0; i < ids.size(); ++i) {
+                    const SchurProblem& problem)
+      : values_(problem.parameters()), factorization_(factorization), runner_(num_threads) {
+    residuals_.resize(problem.residual_blocks().size());
+    for (size_t i = 0; i < residuals_.size(); ++i) {
+      const SchurProblem::ResidualBlock& block = problem.residual_blocks()[i];
       Residual& r = residuals_[i];
-      r.cost = problem->GetCostFunctionForResidualBlock(ids[i]);
-      r.loss = problem->GetLossFunctionForResidualBlock(ids[i]);
-      problem->GetParameterBlocksForResidualBlock(ids[i], &parameters);
-      r.begin = static_cast<int>(values_.size());
-      r.count = static_cast<int>(parameters.size());
-      values_.insert(values_.end(), parameters.begin(), parameters.end());
+      r.cost = block.cost;
+      r.loss = block.loss;
+      r.begin = block.begin;
+      r.count = block.count;
       max_residuals_ = std::max(max_residuals_, r.cost->num_residuals());
       max_parameters_ = std::max(max_parameters_, r.count);
     }
-    // The distinct parameter blocks in address order (Ceres is asked about each once); the
-    // variable ones become blocks: columns first, then points.
+    // The distinct parameter blocks the residuals use, in address order; the variable ones
+    // become blocks: columns first, then points.
+    std::vector<SchurProblem::ParameterBlock> declared(problem.parameter_blocks());
+    const auto by_address = [](const SchurProblem::ParameterBlock& a,
+                               const SchurProblem::ParameterBlock& b) { return a.x < b.x; };
+    std::sort(declared.begin(), declared.end(), by_address);
     std::vector<double*> sorted_eliminate(eliminate);
     std::sort(sorted_eliminate.begin(), sorted_eliminate.end());
     std::vector<double*> distinct(values_);
     std::sort(distinct.begin(), distinct.end());
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    std::vector<const SchurProblem::ParameterBlock*> info(distinct.size());
+    for (size_t i = 0; i < distinct.size(); ++i) {
+      const auto it = std::lower_bound(declared.begin(), declared.end(),
+                                       SchurProblem::ParameterBlock{distinct[i]}, by_address);
+      if (it == declared.end() || it->x != distinct[i]) return;
+      info[i] = &*it;
+    }
     std::vector<int> block_of_distinct(distinct.size(), -1);
     for (const bool points : {false, true}) {
       for (size_t i = 0; i < distinct.size(); ++i) {
         double* x = distinct[i];
-        max_block_size_ = std::max(max_block_size_, problem->ParameterBlockSize(x));
+        const SchurProblem::ParameterBlock& declared_block = *info[i];
+        const int tangent =
+            declared_block.manifold ? declared_block.manifold->TangentSize() : declared_block.size;
+        max_block_size_ = std::max(max_block_size_, declared_block.size);
         if (std::binary_search(sorted_eliminate.begin(), sorted_eliminate.end(), x) != points ||
-            problem->IsParameterBlockConstant(x) || problem->ParameterBlockTangentSize(x) == 0)
+            declared_block.constant || tangent == 0)
           continue;
         Block b;
         b.x = x;
-        b.size = problem->ParameterBlockSize(x);
-        b.tangent = problem->ParameterBlockTangentSize(x);
-        b.manifold = problem->GetManifold(x);
+        b.size = declared_block.size;
+        b.tangent = tangent;
+        b.manifold = declared_block.manifold;
         if (points) {
           b.point = num_points_++;
         } else {
@@ -281,7 +292,10 @@ class DenseSchurProblem {
     point_g_delta_.resize(num_points_);
     point_dDd_.resize(num_points_);
     for (const Block& b : blocks_) num_parameters_ += b.size;
+    ok_ = true;
   }
+
+  bool ok() const { return ok_; }
 
   int num_columns() const { return num_columns_; }
   double seconds_factorise() const { return seconds_factorise_; }
@@ -900,6 +914,7 @@ class DenseSchurProblem {
   int max_residuals_ = 0;
   int max_parameters_ = 0;
   int max_block_size_ = 0;
+  bool ok_ = false;  // every block the residuals use was declared
   // Normal equations at the current parameters (undamped).
   // The reduced system's blocks (a, b), a <= b: row a's are pair_block_[pair_begin_[a] ..
   // pair_begin_[a + 1]), each column-major tangent_a x tangent_b at pair_offset_.
@@ -947,13 +962,57 @@ class DenseSchurProblem {
 
 }  // namespace
 
+void SchurProblem::Reserve(size_t num_parameter_blocks, size_t num_residual_blocks,
+                           size_t num_parameters) {
+  parameter_blocks_.reserve(num_parameter_blocks);
+  residual_blocks_.reserve(num_residual_blocks);
+  parameters_.reserve(num_parameters);
+}
+
+void SchurProblem::AddParameterBlock(double* x, int size, const ceres::Manifold* manifold,
+                                     bool constant) {
+  parameter_blocks_.push_back({x, size, manifold, constant});
+}
+
+void SchurProblem::AddResidualBlock(const ceres::CostFunction* cost,
+                                    const ceres::LossFunction* loss, const double* const* blocks,
+                                    int count) {
+  residual_blocks_.push_back({cost, loss, static_cast<int>(parameters_.size()), count});
+  // The solver writes through the blocks of its own parameters (SchurProblem owns nothing).
+  for (int i = 0; i < count; ++i) parameters_.push_back(const_cast<double*>(blocks[i]));
+}
+
 DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
                                       const std::vector<double*>& eliminate,
                                       ceres::Problem* problem) {
+  SchurProblem view;
+  std::vector<double*> blocks;
+  problem->GetParameterBlocks(&blocks);
+  for (double* x : blocks)
+    view.AddParameterBlock(x, problem->ParameterBlockSize(x), problem->GetManifold(x),
+                           problem->IsParameterBlockConstant(x));
+  std::vector<ceres::ResidualBlockId> ids;
+  problem->GetResidualBlocks(&ids);
+  for (const ceres::ResidualBlockId id : ids) {
+    problem->GetParameterBlocksForResidualBlock(id, &blocks);
+    view.AddResidualBlock(problem->GetCostFunctionForResidualBlock(id),
+                          problem->GetLossFunctionForResidualBlock(id), blocks.data(),
+                          static_cast<int>(blocks.size()));
+  }
+  return SolveWithDenseSchur(options, eliminate, view);
+}
+
+DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
+                                      const std::vector<double*>& eliminate,
+                                      const SchurProblem& problem) {
   DenseSchurSummary summary;
   Timer timer;
   DenseSchurProblem dense(eliminate, options.factorization, options.num_threads, problem);
   summary.seconds_setup = timer.Seconds();
+  if (!dense.ok()) {
+    summary.message = "a residual block uses a parameter block the problem does not have";
+    return summary;
+  }
   summary.sparse = dense.sparse();
   summary.reduced_columns = dense.num_columns();
   summary.reduced_fill = dense.fill();

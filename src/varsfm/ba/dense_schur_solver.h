@@ -2,9 +2,9 @@
 // Levenberg-Marquardt with the Schur complement of the points, for bundle-adjustment problems:
 // the project's own solver (the mapper's up to 5000 images; the file keeps its first name, the
 // reduced system is factorised dense or sparse). It solves a ceres::Problem as it is built (cost
-// functions, loss functions and manifolds through their public interfaces), so the model is
-// defined once and either solver runs it; Ceres stays the reference (tests/ba) and the solver
-// beyond 5000 images (ITERATIVE_SCHUR).
+// functions, loss functions and manifolds through their public interfaces), or the same blocks
+// handed over without one (SchurProblem), so the model is defined once and either solver runs
+// it; Ceres stays the reference (tests/ba) and the solver beyond 5000 images (ITERATIVE_SCHUR).
 //
 // Why: Ceres' program evaluator and Schur eliminator are general (parameter-block indirection,
 // manifold products through dynamic-size matrices, a dynamic f-block size once a problem mixes
@@ -28,6 +28,9 @@
 #include <string>
 #include <vector>
 
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
 #include <ceres/problem.h>
 
 namespace varsfm {
@@ -72,6 +75,41 @@ struct DenseSchurSummary {
   double seconds_factorise = 0.0;  // of which the reduced system's Cholesky factorisations
 };
 
+// The problem as the solver sees it: parameter blocks (a manifold, or held whole) and residual
+// blocks over them, nothing owned. The mapper builds it directly: a ceres::Problem's bookkeeping
+// (a hash map per block, checks and a heap object per residual, its destruction) took ~40 % of
+// a small local adjustment's time. Every block a residual uses is added first, once.
+class SchurProblem {
+ public:
+  struct ParameterBlock {
+    double* x = nullptr;
+    int size = 0;
+    const ceres::Manifold* manifold = nullptr;  // null: Euclidean
+    bool constant = false;
+  };
+  struct ResidualBlock {
+    const ceres::CostFunction* cost = nullptr;
+    const ceres::LossFunction* loss = nullptr;  // null: squared loss
+    int begin = 0;                              // its blocks: parameters()[begin, begin + count)
+    int count = 0;
+  };
+
+  void Reserve(size_t num_parameter_blocks, size_t num_residual_blocks, size_t num_parameters);
+  void AddParameterBlock(double* x, int size, const ceres::Manifold* manifold = nullptr,
+                         bool constant = false);
+  void AddResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                        const double* const* blocks, int count);
+
+  const std::vector<ParameterBlock>& parameter_blocks() const { return parameter_blocks_; }
+  const std::vector<ResidualBlock>& residual_blocks() const { return residual_blocks_; }
+  const std::vector<double*>& parameters() const { return parameters_; }
+
+ private:
+  std::vector<ParameterBlock> parameter_blocks_;
+  std::vector<ResidualBlock> residual_blocks_;
+  std::vector<double*> parameters_;
+};
+
 // Solves `problem` in place. `eliminate`: the parameter blocks removed by the Schur complement
 // (the 3D points; each residual block may hold at most one of them, and only blocks of size 3
 // can be eliminated); every other variable block enters the dense reduced system, in the order
@@ -79,5 +117,9 @@ struct DenseSchurSummary {
 DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
                                       const std::vector<double*>& eliminate,
                                       ceres::Problem* problem);
+// The same on a SchurProblem (its parameters change in place).
+DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
+                                      const std::vector<double*>& eliminate,
+                                      const SchurProblem& problem);
 
 }  // namespace varsfm

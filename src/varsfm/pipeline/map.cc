@@ -216,10 +216,23 @@ MapResult RunMapping(const MapOptions& options) {
   if (colors.valid()) ColorPoints(colors.get(), &rec);
   std::filesystem::create_directories(options.output);
   const auto sparse = options.output / "sparse";
-  WriteColmapModel(rec, sparse, {.binary = false});
-  WriteColmapModel(rec, sparse, {.binary = true});
-  WritePly(rec, options.output / "sparse.ply");
-  WriteBundler(rec, options.output / "bundle.out", options.output / "list.txt");
+  // The four outputs are independent readers of the model: written side by side (bundler/ET's
+  // take 31 ms one after the other, a tenth of its whole `map`). Each future's get() rethrows
+  // its writer's error; the others still finish (a std::async future waits when destroyed).
+  // `sparse` exists first, so the text and binary writers each rename their own files into it
+  // (WriteFilesAtomically) rather than race to rename a whole folder there.
+  std::filesystem::create_directories(sparse);
+  const Reconstruction& model = rec;
+  std::future<void> text = std::async(std::launch::async, [&] {
+    WriteColmapModel(model, sparse, {.binary = false});
+  });
+  std::future<void> bundler = std::async(std::launch::async, [&] {
+    WriteBundler(model, options.output / "bundle.out", options.output / "list.txt");
+  });
+  WriteColmapModel(model, sparse, {.binary = true});
+  WritePly(model, options.output / "sparse.ply");
+  text.get();
+  bundler.get();
   result.seconds = total.Seconds();
 
   nlohmann::json summary = ReconstructionSummaryJson(rec);
