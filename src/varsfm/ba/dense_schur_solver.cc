@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 
@@ -77,15 +78,40 @@ inline void AddTransposeProduct(const double* __restrict A, int ta, const double
   }
 }
 
+// Four doubles as one value (GCC's vector extensions): a register of the x86-64-v3 clone's AVX2,
+// two SSE2 registers of the baseline one. Written out because the compiler left the loop below
+// scalar (the 27 entries of T spilled to the stack), and it is the solver's innermost loop.
+// (-Wpsabi: the baseline clone passes them differently; they never cross a call, all inline.)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double Double4 __attribute__((vector_size(32)));
+
+inline Double4 Load4(const double* p) {
+  Double4 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+inline void Store4(const Double4& v, double* p) { std::memcpy(p, &v, sizeof(v)); }
+
 // out -= T W^T for T, W column-major 9 x 3 and out column-major 9 x 9 (a pair of image blocks
-// in the Schur complement, the solver's innermost loop).
+// in the Schur complement, the solver's innermost loop): T's columns stay in registers (rows
+// 0-3 and 4-7 as vectors, row 8 apart), each column of out takes three broadcasts of W.
 inline void SubtractSchurTerm9(const double* __restrict T, const double* __restrict W,
                                double* __restrict out) {
+  const Double4 t0a = Load4(T), t0b = Load4(T + 4);
+  const Double4 t1a = Load4(T + 9), t1b = Load4(T + 13);
+  const Double4 t2a = Load4(T + 18), t2b = Load4(T + 22);
+  const double t08 = T[8], t18 = T[17], t28 = T[26];
   for (int c = 0; c < 9; ++c) {
     const double w0 = W[c], w1 = W[9 + c], w2 = W[18 + c];
-    for (int j = 0; j < 9; ++j) out[c * 9 + j] -= T[j] * w0 + T[9 + j] * w1 + T[18 + j] * w2;
+    double* o = out + c * 9;
+    Store4(Load4(o) - (t0a * w0 + t1a * w1 + t2a * w2), o);
+    Store4(Load4(o + 4) - (t0b * w0 + t1b * w1 + t2b * w2), o + 4);
+    o[8] -= t08 * w0 + t18 * w1 + t28 * w2;
   }
 }
+#pragma GCC diagnostic pop
 
 // A non-zero of a manifold's plus-Jacobian: a product of subsets and rotations is mostly zeros
 // (the 14 x 9 Jacobian of an image block has 18 non-zeros).
@@ -454,22 +480,23 @@ class DenseSchurProblem {
     if (linearise) {
       std::fill(part.s.begin(), part.s.end(), 0.0);
       part.g.setZero(num_columns_);
-      const int p_begin = point_part_begin_[k], p_end = point_part_begin_[k + 1];
-      for (int p = p_begin; p < p_end; ++p) v_[p].setZero(), g_p_[p].setZero();
-      const int c_begin = point_couplings_begin_[p_begin], c_end = point_couplings_begin_[p_end];
-      if (c_end > c_begin)
-        std::fill(w_.begin() + couplings_[c_begin].offset,
-                  w_.begin() + couplings_[c_end - 1].offset +
-                      3 * blocks_[couplings_[c_end - 1].block].tangent,
-                  0.0);
     }
     double* r = part.r.data();
     double total = 0.0;
+    int current_point = -1;
     const int end = residual_part_begin_[k + 1];
     for (int i = residual_part_begin_[k]; i < end; ++i) {
       const Residual& res = residuals_[i];
-      // The cost functions are scattered over the heap (one allocation each, in the order the
-      // allocator had free chunks): reading the next ones early hides the cache misses.
+      // A part's residuals come point by point: a point's V, g_p and W are zeroed at its first
+      // residual, while they are in cache (zeroing every W up front, tens of MB on a long
+      // sequence, left each accumulation a cache miss).
+      if (linearise && res.point >= 0 && res.point != current_point) {
+        current_point = res.point;
+        ZeroPoint(current_point);
+      }
+      // The cost functions may be scattered over the heap (a ceres::Problem's: one allocation
+      // each, in the order the allocator had free chunks): reading the next ones early hides
+      // the cache misses.
       if (i + kPrefetchDistance < end) {
         const char* next = reinterpret_cast<const char*>(residuals_[i + kPrefetchDistance].cost);
         __builtin_prefetch(next);
@@ -558,6 +585,18 @@ class DenseSchurProblem {
     }
     part.cost = total;
     return true;
+  }
+
+  // Point p's blocks of the normal equations, V, g_p and its couplings' W, to zero.
+  void ZeroPoint(int p) {
+    v_[p].setZero();
+    g_p_[p].setZero();
+    const int c_begin = point_couplings_begin_[p], c_end = point_couplings_begin_[p + 1];
+    if (c_end > c_begin)
+      std::fill(w_.begin() + couplings_[c_begin].offset,
+                w_.begin() + couplings_[c_end - 1].offset +
+                    3 * blocks_[couplings_[c_end - 1].block].tangent,
+                0.0);
   }
 
   // Part k's points: the damped V^-1, and T = W V^-1 for each coupling (column-major
@@ -656,8 +695,9 @@ class DenseSchurProblem {
   }
 
   // Cuts the residuals into kParts runs of whole points (each point's residuals in one part,
-  // about as many residuals in each part), residuals without a point spread by their index; the
-  // residuals keep their order within a part.
+  // about as many residuals in each part), residuals without a point spread by their index.
+  // Within a part the residuals come point by point (those without a point first), each point's
+  // in their order in the problem.
   void PartitionResiduals() {
     const int n = static_cast<int>(residuals_.size());
     std::vector<int> per_point(num_points_ + 1, 0);
@@ -683,7 +723,9 @@ class DenseSchurProblem {
                                          : static_cast<int>(static_cast<int64_t>(i) * kParts / n);
     std::vector<int> order(n);
     for (int i = 0; i < n; ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return part[a] < part[b]; });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return part[a] != part[b] ? part[a] < part[b] : residuals_[a].point < residuals_[b].point;
+    });
     std::vector<Residual> sorted(n);
     residual_part_begin_.assign(kParts + 1, n);
     for (int i = n - 1; i >= 0; --i) {

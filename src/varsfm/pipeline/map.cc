@@ -223,9 +223,8 @@ MapResult RunMapping(const MapOptions& options) {
   // (WriteFilesAtomically) rather than race to rename a whole folder there.
   std::filesystem::create_directories(sparse);
   const Reconstruction& model = rec;
-  std::future<void> text = std::async(std::launch::async, [&] {
-    WriteColmapModel(model, sparse, {.binary = false});
-  });
+  std::future<void> text =
+      std::async(std::launch::async, [&] { WriteColmapModel(model, sparse, {.binary = false}); });
   std::future<void> bundler = std::async(std::launch::async, [&] {
     WriteBundler(model, options.output / "bundle.out", options.output / "list.txt");
   });
