@@ -101,6 +101,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   MapperSummary summary;
   summary.num_images = rec->images().size();
   registration_order_.clear();
+  frontier_.clear();
 
   // 1. Initialisation: candidates by the disparity criterion; the first pair whose
   // self-calibration is not degenerate wins, else the best degenerate one (prior focal).
@@ -278,6 +279,8 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   rec->image(id2).cam_from_world = calib.cam2_from_cam1;
   rec->RegisterImage(id1);
   rec->RegisterImage(id2);
+  ExtendFrontier(id1);
+  ExtendFrontier(id2);
   for (size_t i = 0; i < inlier_matches.size(); ++i) {
     if (!calib.point_valid[i]) continue;
     rec->AddPoint3D(calib.points[i],
@@ -312,12 +315,19 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   return true;
 }
 
+void IncrementalMapper::ExtendFrontier(image_t registered) {
+  if (!graph_.ExistsImage(registered)) return;
+  for (const image_t id : graph_.NeighborsOf(registered)) frontier_.insert(id);
+}
+
 std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction& rec) const {
   // Score: the number of the image's 2D points whose tracks reach a reconstructed 3D point.
   std::vector<std::pair<size_t, image_t>> scored;
   image_t last_registered = registration_order_.empty() ? 0 : registration_order_.back();
-  for (const auto& [image_id, image] : rec.images()) {
-    if (image.registered || !graph_.ExistsImage(image_id)) continue;
+  for (const image_t image_id : frontier_) {
+    if (!rec.ExistsImage(image_id) || !graph_.ExistsImage(image_id)) continue;
+    const Image& image = rec.image(image_id);
+    if (image.registered) continue;
     // Only images that match a registered one can see reconstructed points: on a sequence
     // that is the few next to the registered ones, and the scan below stays bounded.
     const auto& neighbors = graph_.NeighborsOf(image_id);
@@ -580,6 +590,7 @@ bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
   if (!shared_camera) camera.params = chosen.camera.params;
   image.cam_from_world = chosen.pose;
   rec->RegisterImage(image_id);
+  ExtendFrontier(image_id);
   for (size_t i = 0; i < corrs.size(); ++i)
     if (ReprojectionError(camera, image.cam_from_world, x[i], X[i]) <=
         options_.registration_max_error_px)

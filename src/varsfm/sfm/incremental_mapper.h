@@ -14,6 +14,7 @@
 // planar set of points makes the DLT ill-posed).
 #include <cstdint>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -162,6 +163,8 @@ class IncrementalMapper {
   bool RegisterImage(Reconstruction* rec, image_t image_id);
   size_t TriangulateImage(Reconstruction* rec, image_t image_id);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
+  // Adds the matching-graph neighbours of an image just registered to frontier_.
+  void ExtendFrontier(image_t registered);
   void LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary);
   void GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary, bool retriangulate,
                               int max_iterations);
@@ -170,6 +173,10 @@ class IncrementalMapper {
   std::vector<std::pair<image_t, image_t>> excluded_initial_pairs_;
   IncrementalMapperOptions options_;
   std::vector<image_t> registration_order_;
+  // Every image that matches an image ever registered (a superset of the images that can
+  // register next): NextImageCandidates scans these, not every image of the model, which on a
+  // 1000-image sequence is the few dozen next to the registered ones.
+  std::set<image_t> frontier_;
 };
 
 }  // namespace varsfm
