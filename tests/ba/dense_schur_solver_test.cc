@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -258,6 +259,58 @@ TEST(DenseSchurSolver, StopsAtTheIterationLimitWithAUsableSolution) {
   EXPECT_FALSE(s.converged);
   EXPECT_EQ(s.successful_steps + s.unsuccessful_steps, 2);
   EXPECT_LE(s.final_cost, s.initial_cost);
+}
+
+// The mapper hands the solver its blocks directly (SchurProblem); the same blocks through a
+// ceres::Problem must give the same steps and minimum, bit for bit.
+TEST(DenseSchurSolver, SchurProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  std::vector<std::pair<double, double>> data;
+  for (int i = 0; i < 40; ++i) {
+    const double x = 4.0 * i / 40.0;
+    data.emplace_back(x, std::exp(0.3 * x + 0.1) + noise(rng));
+  }
+  double direct[2] = {0.0, 0.0}, through_ceres[2] = {0.0, 0.0};
+  ceres::CauchyLoss loss(1.0);
+  SchurProblem problem;
+  problem.AddParameterBlock(&direct[0], 1);
+  problem.AddParameterBlock(&direct[1], 1);
+  ceres::Problem::Options ceres_options;
+  ceres_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem reference(ceres_options);
+  for (const auto& [x, y] : data) {
+    costs.push_back(std::make_unique<ceres::AutoDiffCostFunction<ExponentialResidual, 1, 1, 1>>(
+        new ExponentialResidual(x, y)));
+    const double* blocks[2] = {&direct[0], &direct[1]};
+    problem.AddResidualBlock(costs.back().get(), &loss, blocks, 2);
+    reference.AddResidualBlock(costs.back().get(), &loss, &through_ceres[0], &through_ceres[1]);
+  }
+  const DenseSchurOptions options;
+  const DenseSchurSummary a = SolveWithDenseSchur(options, {}, problem);
+  const DenseSchurSummary b = SolveWithDenseSchur(options, {}, &reference);
+  ASSERT_TRUE(a.usable && a.converged) << a.message;
+  EXPECT_EQ(a.successful_steps, b.successful_steps);
+  EXPECT_EQ(a.final_cost, b.final_cost);
+  EXPECT_EQ(direct[0], through_ceres[0]);
+  EXPECT_EQ(direct[1], through_ceres[1]);
+  EXPECT_NEAR(direct[0], 0.3, 0.05);
+}
+
+TEST(DenseSchurSolver, RefusesAResidualOnABlockTheProblemDoesNotHave) {
+  double m = 0.0, c = 0.0;
+  ceres::AutoDiffCostFunction<ExponentialResidual, 1, 1, 1> cost(new ExponentialResidual(1, 2));
+  SchurProblem problem;
+  problem.AddParameterBlock(&m, 1);  // c is never added
+  const double* blocks[2] = {&m, &c};
+  problem.AddResidualBlock(&cost, nullptr, blocks, 2);
+  const DenseSchurSummary s = SolveWithDenseSchur(DenseSchurOptions(), {}, problem);
+  EXPECT_FALSE(s.usable);
+  EXPECT_NE(s.message.find("does not have"), std::string::npos) << s.message;
+  EXPECT_EQ(m, 0.0);
+  EXPECT_EQ(c, 0.0);
 }
 
 }  // namespace
