@@ -476,8 +476,12 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   ParameterBuffer buffer(rec, problem_images, shared_sizes, group_members, shared_mask,
                          problem_points);
 
-  // The residuals, one per observation, with the blocks they use; `add` receives each.
+  // The shared per-size blocks the problem's cameras take parameters from.
   std::set<double*> used_groups;
+  for (const camera_t id : problem_cameras)
+    if (double* group = buffer.group(rec.camera(id))) used_groups.insert(group);
+
+  // The residuals, one per observation, with the blocks they use; `add` receives each.
   const auto for_each_residual = [&](auto&& add) {
     std::array<double*, 4> blocks{};
     for (const Observation& o : observations) {
@@ -487,7 +491,7 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
       const bool image_block = buffer.HasImageBlock(o.image_id);
       int count = 0;
       blocks[count++] = buffer.camera(image.camera_id);
-      if (group) blocks[count++] = group, used_groups.insert(group);
+      if (group) blocks[count++] = group;
       if (!image_block) blocks[count++] = buffer.pose(o.image_id);
       blocks[count++] = buffer.point(o.point3D_id);
       add(image.points2D[o.point2D_idx].xy,

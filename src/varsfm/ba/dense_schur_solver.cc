@@ -619,8 +619,8 @@ class DenseSchurProblem {
   VARSFM_CPU_CLONES bool InvertPoints(int k, double mu) {
     for (int p = point_part_begin_[k]; p < point_part_begin_[k + 1]; ++p) {
       // The damped V = [a b c; b d e; c e f] is inverted through its adjugate, its positive
-      // definiteness checked by its leading minors (Sylvester's criterion; a NaN fails too):
-      // a third of Eigen's pivoted LDLT's time, which the solver spent ~3 % in.
+      // definiteness checked by its leading minors (Sylvester's criterion; a NaN fails too)
+      // rather than by Eigen's pivoted LDLT: bundler/ET's solves 0.047 -> 0.035 s (median of 8).
       const Matrix3& u = v_[p];
       const double a = u(0, 0) + mu * ClampDiagonal(u(0, 0)), b = u(0, 1), c = u(0, 2);
       const double d = u(1, 1) + mu * ClampDiagonal(u(1, 1)), e = u(1, 2);
