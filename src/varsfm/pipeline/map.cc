@@ -214,13 +214,13 @@ MapResult RunMapping(const MapOptions& options) {
 
   Reconstruction& rec = result.reconstruction;
   if (colors.valid()) ColorPoints(colors.get(), &rec);
-  std::filesystem::create_directories(options.output);
   const auto sparse = options.output / "sparse";
   // The four outputs are independent readers of the model: written side by side (bundler/ET's
   // take 31 ms one after the other, a tenth of its whole `map`). Each future's get() rethrows
   // its writer's error; the others still finish (a std::async future waits when destroyed).
-  // `sparse` exists first, so the text and binary writers each rename their own files into it
-  // (WriteFilesAtomically) rather than race to rename a whole folder there.
+  // `sparse` (and the output folder above it) exists first, so the text and binary writers
+  // each rename their own files into it (WriteFilesAtomically) rather than race to rename a
+  // whole folder there.
   std::filesystem::create_directories(sparse);
   const Reconstruction& model = rec;
   std::future<void> text =

@@ -325,7 +325,7 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
   std::vector<std::pair<size_t, image_t>> scored;
   image_t last_registered = registration_order_.empty() ? 0 : registration_order_.back();
   for (const image_t image_id : frontier_) {
-    if (!rec.ExistsImage(image_id) || !graph_.ExistsImage(image_id)) continue;
+    if (!rec.ExistsImage(image_id)) continue;  // frontier_ holds graph images only
     const Image& image = rec.image(image_id);
     if (image.registered) continue;
     // Only images that match a registered one can see reconstructed points: on a sequence
