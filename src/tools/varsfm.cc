@@ -49,6 +49,13 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                   "global BAs stop when an iteration lowers the cost by less than this fraction")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  static const std::map<std::string, varsfm::BundleAdjustmentOptions::TrustRegion> kRegions = {
+      {"dogleg", varsfm::BundleAdjustmentOptions::TrustRegion::kDogleg},
+      {"lm", varsfm::BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt}};
+  cmd->add_option("--global-ba-trust-region", m.global_ba_trust_region,
+                  "global BAs' steps: dogleg (Powell's) | lm (Levenberg-Marquardt)")
+      ->transform(CLI::CheckedTransformer(kRegions, CLI::ignore_case))
+      ->capture_default_str();
   cmd->add_option("--degenerate-init-global-ba", m.degenerate_init_global_ba_images,
                   "after a degenerate initial pair, a global BA when this many images are in "
                   "(0: none)")

@@ -162,6 +162,40 @@ TEST(DenseSchurSolver, SameResultBitForBitWithAnyNumberOfThreads) {
   }
 }
 
+// Powell's dogleg reaches the minimum Levenberg-Marquardt and Ceres' DOGLEG reach, on the
+// banded street (sparse reduced system) with a robust loss.
+TEST(DenseSchurSolver, DoglegReachesTheMinimumAsLevenbergMarquardtAndCeresDogleg) {
+  StreetProblem lm, dogleg, reference;
+  DenseSchurOptions options;
+  options.function_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-12;
+  const DenseSchurSummary lm_summary = SolveWithDenseSchur(options, lm.PointBlocks(), &lm.problem);
+  options.strategy = DenseSchurOptions::Strategy::kDogleg;
+  const DenseSchurSummary dl_summary =
+      SolveWithDenseSchur(options, dogleg.PointBlocks(), &dogleg.problem);
+  ASSERT_TRUE(lm_summary.usable && dl_summary.usable)
+      << lm_summary.message << " / " << dl_summary.message;
+  EXPECT_TRUE(dl_summary.converged) << dl_summary.message;
+  EXPECT_LT(dl_summary.final_cost, 0.5 * dl_summary.initial_cost);
+
+  ceres::Solver::Options ceres_options;
+  ceres_options.trust_region_strategy_type = ceres::DOGLEG;
+  ceres_options.linear_solver_type = ceres::SPARSE_SCHUR;
+  ceres_options.function_tolerance = 1e-12;
+  ceres_options.gradient_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(ceres_options, &reference.problem, &summary);
+  ASSERT_TRUE(summary.IsSolutionUsable()) << summary.BriefReport();
+
+  EXPECT_NEAR(dl_summary.final_cost, lm_summary.final_cost, 1e-8 * lm_summary.final_cost);
+  EXPECT_NEAR(dl_summary.final_cost, summary.final_cost, 1e-8 * summary.final_cost);
+  for (size_t i = 0; i < lm.cameras.size(); ++i)
+    for (int j = 0; j < 7; ++j) {
+      EXPECT_NEAR(dogleg.cameras[i][j], lm.cameras[i][j], 1e-5) << i << " " << j;
+      EXPECT_NEAR(dogleg.cameras[i][j], reference.cameras[i][j], 1e-5) << i << " " << j;
+    }
+}
+
 TEST(DenseSchurSolver, FitsACurveAsCeresDoes) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.2);

@@ -22,11 +22,12 @@
 // Gauge (the 7-dof similarity ambiguity of a projective-metric reconstruction): when fewer than
 // two images of the problem have a constant pose and fewer than three points are constant,
 // RunBundleAdjustment fixes it itself:
-//  - no constant pose: the pose of the lowest-id variable image is held (6 dof);
+//  - no constant pose: the pose of the variable image nearest the centroid of their centres is
+//    held (6 dof), so that no image is farther from it than the model's radius;
 //  - then, with one constant pose C0 (given or just chosen), the scale is held by fixing the
-//    coordinate k of the next variable image's centre C2 (poses are optimised as rotation and
-//    centre) that changes most under a scaling about C0: argmax_k |(C2 - C0)_k|. Two or more
-//    constant poses fix the gauge on their own.
+//    coordinate k of the centre C2 of the variable image farthest from C0 (poses are optimised
+//    as rotation and centre) that changes most under a scaling about C0: argmax_k
+//    |(C2 - C0)_k|. Two or more constant poses fix the gauge on their own.
 #include <set>
 #include <string>
 #include <vector>
@@ -92,6 +93,10 @@ struct BundleAdjustmentOptions {
   // 0.35 s against 0.44 s.
   int num_threads = 0;
   Solver solver = Solver::kAuto;
+  // Levenberg-Marquardt, or Powell's dogleg (for the native solver and Ceres' alike); the
+  // mapper's global adjustments use the dogleg (incremental_mapper.h has the measurements).
+  enum class TrustRegion { kLevenbergMarquardt, kDogleg };
+  TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
   IntrinsicsOptions intrinsics;
   bool verbose = false;  // Ceres progress to stdout
 };

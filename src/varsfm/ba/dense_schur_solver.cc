@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -426,7 +427,91 @@ class DenseSchurProblem {
     }
     *model_decrease = -0.5 * g_delta + 0.5 * mu * dDd;
     *step_norm = std::sqrt(norm2);
+    step_g_delta_ = g_delta;
+    step_dDd_ = dDd;
     return true;
+  }
+
+  // Powell's dogleg (Nocedal & Wright, "Numerical Optimization", 2nd ed., sec. 4.1; Ceres'
+  // DoglegStrategy) combines the Gauss-Newton step p (the last SolveStep, with its small mu)
+  // and the Cauchy point along u = D^-1 g, the gradient in the Jacobi-scaled coordinates. The
+  // model of every step a p + b u follows from five scalars: with (H + mu D) p = -g,
+  // p^T H p = -g.p - mu p^T D p and u^T H p = -g.u - mu g.p; only u^T H u needs the blocks.
+  struct DoglegTerms {
+    double mu = 0.0;
+    double g_p = 0.0;    // g . p
+    double p_D_p = 0.0;  // p^T D p
+    double g_u = 0.0;    // g . u = |u|_D^2
+    double u_H_u = 0.0;
+  };
+
+  // Keeps the last step as the Gauss-Newton step p (solved with damping mu) and computes u.
+  DoglegTerms KeepGaussNewtonStep(double mu) {
+    DoglegTerms t;
+    t.mu = mu;
+    t.g_p = step_g_delta_;
+    t.p_D_p = step_dDd_;
+    gn_c_ = delta_c_;
+    gn_p_ = delta_p_;
+    u_c_.resize(num_columns_);
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      const int ta = blocks_[a].tangent, col = blocks_[a].column;
+      const double* d = &s_blocks_[pair_offset_[pair_begin_[a]]];
+      for (int i = 0; i < ta; ++i) u_c_[col + i] = g_c_[col + i] / ClampDiagonal(d[i * ta + i]);
+    }
+    t.g_u = g_c_.dot(u_c_);
+    u_p_.resize(num_points_);
+    for (int p = 0; p < num_points_; ++p) {
+      for (int i = 0; i < 3; ++i) u_p_[p][i] = g_p_[p][i] / ClampDiagonal(v_[p](i, i));
+      t.g_u += g_p_[p].dot(u_p_[p]);
+    }
+    // u^T H u over H's blocks: S (upper block triangle, off-diagonal blocks twice), the
+    // couplings W (twice) and the points' V.
+    double uhu = 0.0;
+    for (int a = 0; a < num_column_blocks_; ++a) {
+      const int ta = blocks_[a].tangent;
+      const double* ua = u_c_.data() + blocks_[a].column;
+      for (int pair = pair_begin_[a]; pair < pair_begin_[a + 1]; ++pair) {
+        const int b = pair_block_[pair];
+        const int tb = blocks_[b].tangent;
+        const double* ub = u_c_.data() + blocks_[b].column;
+        const double* block = &s_blocks_[pair_offset_[pair]];  // (j, c) at c * ta + j
+        double sum = 0.0;
+        for (int c = 0; c < tb; ++c) {
+          double col = 0.0;
+          for (int j = 0; j < ta; ++j) col += ua[j] * block[c * ta + j];
+          sum += col * ub[c];
+        }
+        uhu += b == a ? sum : 2.0 * sum;
+      }
+    }
+    for (int p = 0; p < num_points_; ++p) {
+      const Eigen::Vector3d& up = u_p_[p];
+      uhu += up.dot(v_[p] * up);
+      for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
+        const Block& ba = blocks_[couplings_[a].block];
+        const double* W = &w_[couplings_[a].offset];  // column-major tangent x 3
+        const double* ua = u_c_.data() + ba.column;
+        for (int c = 0; c < 3; ++c) {
+          double col = 0.0;
+          for (int j = 0; j < ba.tangent; ++j) col += ua[j] * W[c * ba.tangent + j];
+          uhu += 2.0 * col * up[c];
+        }
+      }
+    }
+    t.u_H_u = uhu;
+    return t;
+  }
+
+  // The step a p + b u into delta (for Step()); returns its Euclidean norm.
+  double SetDoglegStep(double a, double b) {
+    delta_c_ = a * gn_c_ + b * u_c_;
+    double norm2 = delta_c_.squaredNorm();
+    for (int p = 0; p < num_points_; ++p) {
+      delta_p_[p] = a * gn_p_[p] + b * u_p_[p];
+      norm2 += delta_p_[p].squaredNorm();
+    }
+    return std::sqrt(norm2);
   }
 
   // x <- x [+] delta, keeping the previous values for Restore(). False when a manifold fails.
@@ -1006,7 +1091,12 @@ class DenseSchurProblem {
   std::vector<Eigen::Vector3d> delta_p_;
   std::vector<double> point_g_delta_;  // g_p . delta_p
   std::vector<double> point_dDd_;      // delta_p^T D_p delta_p
+  double step_g_delta_ = 0.0;          // g . delta of the last step
+  double step_dDd_ = 0.0;              // delta^T D delta of the last step
   std::vector<double> backup_;
+  // The dogleg's Gauss-Newton step and scaled gradient (KeepGaussNewtonStep).
+  Eigen::VectorXd gn_c_, u_c_;
+  std::vector<Eigen::Vector3d> gn_p_, u_p_;
   // The parts (kParts): residuals_[residual_part_begin_[k] .. [k + 1]) are points
   // [point_part_begin_[k] .. [k + 1]); rows [row_group_begin_[k] .. [k + 1]) of the reduced
   // system, updated by group_points_[k].
@@ -1067,6 +1157,127 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
   return SolveWithDenseSchur(options, eliminate, view);
 }
 
+namespace {
+
+// The dogleg iterations (Powell; Ceres' DoglegStrategy, traditional variant): the
+// Gauss-Newton step with a small damping mu_gn (raised tenfold while the reduced system is not
+// positive definite), the Cauchy point along the scaled gradient, and between them the point of
+// the path at the trust-region radius, all in the Jacobi-scaled norm |x|_D. A rejected step
+// halves the radius and reuses both steps: no new factorisation, one residual evaluation.
+template <typename Linearise>
+void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* cost,
+            const Linearise& linearise, DenseSchurSummary* summary) {
+  constexpr double kMinMu = 1e-8, kMaxMu = 1.0;
+  double radius = options.initial_trust_region_radius;
+  double mu = kMinMu;
+  bool reuse = false;
+  DenseSchurProblem::DoglegTerms t;
+  while (true) {
+    if (dense->GradientMaxNorm() <= options.gradient_tolerance) {
+      summary->converged = true;
+      summary->message = "gradient tolerance reached";
+      return;
+    }
+    if (summary->successful_steps + summary->unsuccessful_steps >= options.max_iterations) {
+      summary->message = "maximum number of iterations reached";
+      return;
+    }
+    if (!reuse) {
+      double model_decrease = 0.0, step_norm = 0.0;
+      bool solved = false;
+      Timer solve_timer;
+      for (; mu <= kMaxMu; mu *= 10.0)
+        if ((solved = dense->SolveStep(mu, &model_decrease, &step_norm))) break;
+      summary->seconds_solve += solve_timer.Seconds();
+      if (!solved) {
+        summary->message = "the reduced system is not positive definite";
+        return;
+      }
+      t = dense->KeepGaussNewtonStep(mu);
+    }
+    // The step a p + b u, p the Gauss-Newton step, u = D^-1 g.
+    const double gn_norm = std::sqrt(std::max(t.p_D_p, 0.0));
+    const double u_norm = std::sqrt(std::max(t.g_u, 0.0));
+    const double alpha = t.u_H_u > 0.0 ? t.g_u / t.u_H_u : std::numeric_limits<double>::max();
+    double a = 0.0, b = 0.0;
+    if (gn_norm <= radius) {
+      a = 1.0;
+    } else if (u_norm == 0.0 || alpha * u_norm >= radius) {
+      b = u_norm > 0.0 ? -radius / u_norm : 0.0;
+    } else {
+      // q = -alpha u (the Cauchy point), p; |q + beta (p - q)|_D = radius, beta in [0, 1].
+      const double qq = alpha * alpha * t.g_u, pq = -alpha * t.g_p, pp = t.p_D_p;
+      const double c2 = pp - 2.0 * pq + qq, c1 = 2.0 * (pq - qq), c0 = qq - radius * radius;
+      const double disc = std::max(c1 * c1 - 4.0 * c2 * c0, 0.0);
+      const double beta = c2 > 0.0 ? (-c1 + std::sqrt(disc)) / (2.0 * c2) : 1.0;
+      a = beta;
+      b = -alpha * (1.0 - beta);
+    }
+    // m(a p + b u) = a g.p + b g.u + (a^2 p'Hp + 2 a b u'Hp + b^2 u'Hu) / 2.
+    const double pHp = -t.g_p - t.mu * t.p_D_p, uHp = -t.g_u - t.mu * t.g_p;
+    const double model_decrease =
+        -(a * t.g_p + b * t.g_u + 0.5 * (a * a * pHp + 2.0 * a * b * uHp + b * b * t.u_H_u));
+    const double step_scaled =
+        std::sqrt(std::max(a * a * t.p_D_p + 2.0 * a * b * t.g_p + b * b * t.g_u, 0.0));
+    const double step_norm = dense->SetDoglegStep(a, b);
+    if (step_norm <=
+        options.parameter_tolerance * (dense->ParameterNorm() + options.parameter_tolerance)) {
+      summary->converged = true;
+      summary->message = "parameter tolerance reached";
+      return;
+    }
+    bool accepted = false;
+    double new_cost = *cost, rho = 0.0;
+    if (model_decrease > 0.0 && dense->Step()) {
+      const Timer timer;
+      const bool evaluated = dense->Evaluate(/*linearise=*/false, &new_cost);
+      summary->seconds_residuals += timer.Seconds();
+      if (evaluated && std::isfinite(new_cost)) {
+        rho = (*cost - new_cost) / model_decrease;
+        accepted = rho > kMinRelativeDecrease;
+      }
+      if (!accepted) dense->Restore();
+    }
+    if (options.progress_to_stdout)
+      std::printf(
+          "%4d %s cost %.6e change %+.3e step %.3e rho %.3f radius %.3e (dogleg %.2f %.2e)\n",
+          summary->successful_steps + summary->unsuccessful_steps, accepted ? "ok  " : "fail",
+          accepted ? new_cost : *cost, *cost - new_cost, step_norm, rho, radius, a, b);
+    if (!accepted) {
+      ++summary->unsuccessful_steps;
+      radius *= 0.5;
+      reuse = true;
+      if (radius < kMinRadius) {
+        summary->converged = true;
+        summary->message = "trust region radius below its minimum";
+        return;
+      }
+      continue;
+    }
+    ++summary->successful_steps;
+    if (rho < 0.25) radius *= 0.5;
+    if (rho > 0.75) radius = std::max(radius, 3.0 * step_scaled);
+    radius = std::min(radius, kMaxRadius);
+    mu = std::max(kMinMu, mu / 5.0);
+    reuse = false;
+    const double relative_change = (*cost - new_cost) / *cost;
+    *cost = new_cost;
+    summary->final_cost = new_cost;
+    summary->final_squared_norm = dense->squared_norm();
+    if (relative_change <= options.function_tolerance) {
+      summary->converged = true;
+      summary->message = "function tolerance reached";
+      return;
+    }
+    if (!linearise()) {
+      summary->message = "a cost function failed";
+      return;
+    }
+  }
+}
+
+}  // namespace
+
 DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
                                       const std::vector<double*>& eliminate,
                                       const SchurProblem& problem) {
@@ -1095,6 +1306,11 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
   summary.usable = true;
   summary.initial_cost = summary.final_cost = cost;
   summary.initial_squared_norm = summary.final_squared_norm = dense.squared_norm();
+  if (options.strategy == DenseSchurOptions::Strategy::kDogleg) {
+    Dogleg(options, &dense, &cost, linearise, &summary);
+    summary.seconds_factorise = dense.seconds_factorise();
+    return summary;
+  }
   double radius = options.initial_trust_region_radius;
   double decrease_factor = 2.0;
   while (true) {
@@ -1136,6 +1352,11 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
         if (!accepted) dense.Restore();
       }
     }
+    if (options.progress_to_stdout)
+      std::printf("%4d %s cost %.6e change %+.3e step %.3e rho %.3f radius %.3e\n",
+                  summary.successful_steps + summary.unsuccessful_steps, accepted ? "ok  " : "fail",
+                  accepted ? new_cost : cost, cost - new_cost, step_norm,
+                  model_decrease > 0.0 ? (cost - new_cost) / model_decrease : 0.0, radius);
     if (!accepted) {
       ++summary.unsuccessful_steps;
       radius /= decrease_factor;

@@ -41,6 +41,11 @@ struct DenseSchurOptions {
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
   double initial_trust_region_radius = 1e4;
+  // Levenberg-Marquardt (Ceres' default), or Powell's dogleg: on a long sequence's final global
+  // adjustment (bench/scale, 1000 images) LM crawled along the weak directions of the per-image
+  // distortion and the trajectory's bend, where the dogleg's Gauss-Newton steps go straight.
+  enum class Strategy { kLevenbergMarquardt, kDogleg };
+  Strategy strategy = Strategy::kLevenbergMarquardt;
   // The reduced system's factorisation (cholesky.h): dense, or sparse (CHOLMOD's supernodal
   // LLT) for a large system with few blocks (a sequence's banded camera graph);
   // kAuto: sparse beyond 1500 columns, or beyond 300 when its blocks fill less than a quarter.
@@ -49,6 +54,9 @@ struct DenseSchurOptions {
   // Threads (<= 1: the calling thread only). The work is cut into a fixed number of parts and
   // summed in part order, so the result is the same bit for bit with any number of threads.
   int num_threads = 1;
+  // One line per step on standard output, as Ceres' minimizer_progress_to_stdout prints them
+  // (`varsfm --log-level trace`): where an adjustment spends its iterations.
+  bool progress_to_stdout = false;
 };
 
 struct DenseSchurSummary {

@@ -700,6 +700,7 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   ba.solver = options_.ba_solver;
   ba.max_iterations = max_iterations;
   ba.function_tolerance = options_.global_ba_function_tolerance;
+  ba.trust_region = options_.global_ba_trust_region;
   // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
   ba.verbose = spdlog::should_log(spdlog::level::trace);
   const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
