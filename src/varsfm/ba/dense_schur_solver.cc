@@ -1168,6 +1168,7 @@ template <typename Linearise>
 void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* cost,
             const Linearise& linearise, DenseSchurSummary* summary) {
   constexpr double kMinMu = 1e-8, kMaxMu = 1.0;
+  constexpr double kMaxExtrapolation = 4.0;
   double radius = options.initial_trust_region_radius;
   double mu = kMinMu;
   bool reuse = false;
@@ -1238,11 +1239,47 @@ void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* 
       }
       if (!accepted) dense->Restore();
     }
+    // The cost fell well beyond the model's prediction (rho > 1.2): the model's curvature along
+    // the step is too high (the Gauss-Newton term drops the residuals' own curvature, and a
+    // robust loss flattens), so the step stops short. The parabola through the cost at 0 and 1
+    // with the exact slope g.delta there gives a longer step; one residual evaluation tries it.
+    // On bench/scale's 1000-image street the final adjustment's Gauss-Newton steps had rho
+    // 1.5-2 and each took only ~60 % of the remaining decrease.
+    double extrapolation = 1.0;
+    if (accepted && rho > 1.2) {
+      const double slope = a * t.g_p + b * t.g_u;  // d cost / d lambda at lambda = 0
+      const double curvature = (new_cost - *cost) - slope;
+      const double lambda = curvature > 0.0
+                                ? std::min(-slope / (2.0 * curvature), kMaxExtrapolation)
+                                : kMaxExtrapolation;
+      if (lambda > 1.5) {
+        const Timer timer;
+        double extrapolated_cost = new_cost;
+        dense->Restore();
+        dense->SetDoglegStep(lambda * a, lambda * b);
+        bool better = dense->Step() && dense->Evaluate(/*linearise=*/false, &extrapolated_cost) &&
+                      std::isfinite(extrapolated_cost) && extrapolated_cost < new_cost;
+        if (better) {
+          new_cost = extrapolated_cost;
+          extrapolation = lambda;
+        } else {  // back to the step itself
+          dense->Restore();
+          dense->SetDoglegStep(a, b);
+          if (!dense->Step() || !dense->Evaluate(/*linearise=*/false, &new_cost)) {
+            summary->message = "a cost function failed";
+            return;
+          }
+        }
+        summary->seconds_residuals += timer.Seconds();
+      }
+    }
     if (options.progress_to_stdout)
       std::printf(
-          "%4d %s cost %.6e change %+.3e step %.3e rho %.3f radius %.3e (dogleg %.2f %.2e)\n",
+          "%4d %s cost %.6e change %+.3e step %.3e rho %.3f radius %.3e (dogleg %.2f %.2e, "
+          "x %.2f)\n",
           summary->successful_steps + summary->unsuccessful_steps, accepted ? "ok  " : "fail",
-          accepted ? new_cost : *cost, *cost - new_cost, step_norm, rho, radius, a, b);
+          accepted ? new_cost : *cost, *cost - new_cost, step_norm, rho, radius, a, b,
+          extrapolation);
     if (!accepted) {
       ++summary->unsuccessful_steps;
       radius *= 0.5;
@@ -1256,7 +1293,7 @@ void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* 
     }
     ++summary->successful_steps;
     if (rho < 0.25) radius *= 0.5;
-    if (rho > 0.75) radius = std::max(radius, 3.0 * step_scaled);
+    if (rho > 0.75) radius = std::max(radius, 3.0 * extrapolation * step_scaled);
     radius = std::min(radius, kMaxRadius);
     mu = std::max(kMinMu, mu / 5.0);
     reuse = false;
