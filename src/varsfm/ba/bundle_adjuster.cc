@@ -605,10 +605,10 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     }
     result.iterations = summary.successful_steps + summary.unsuccessful_steps;
     result.report = fmt::format(
-        "native Schur LM ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
+        "native Schur {} ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
         "{:.6e}; s: setup {:.4f}, "
         "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
-        summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
+        native.strategy == DenseSchurOptions::Strategy::kDogleg ? "dogleg" : "LM", summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
         summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
         summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
         summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise,
