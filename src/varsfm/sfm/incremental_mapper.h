@@ -51,10 +51,10 @@ struct IncrementalMapperOptions {
   // reuses its factorisation. The local adjustments (3 steps) stay on LM.
   BundleAdjustmentOptions::TrustRegion global_ba_trust_region =
       BundleAdjustmentOptions::TrustRegion::kDogleg;
-  // Iteration caps: the global adjustments while the model grows, and the final one. On a
-  // 1000-image street sequence (bench/scale) some global adjustments crawl along a flat valley
-  // (focal length against distance to a facade) at ~1e-4 relative decrease per iteration to
-  // the cap; those during growth are followed by others, so 25 bounds their cost.
+  // Iteration caps: the global adjustments while the model grows, and the final one. With LM
+  // some global adjustments of a 1000-image street sequence (bench/scale) crawled along its
+  // weak directions at ~1e-4 relative decrease per iteration to the cap; those during growth
+  // are followed by others, so 25 bounds their cost (with the dogleg they take 5-8 steps).
   int global_ba_max_iterations = 25;
   // After a degenerate initial pair (focal lengths held in its two-view adjustment), a global
   // adjustment when this many images are registered (0: none).
