@@ -63,10 +63,16 @@ SyntheticOptions ZoomingOrbit() {
   return o;
 }
 
-TEST(IncrementalMapper, ReconstructsZoomingOrbitAtTheNoiseFloor) {
+// With either trust region for the global adjustments (the dogleg by default).
+class ZoomingOrbitMapping : public ::testing::TestWithParam<BundleAdjustmentOptions::TrustRegion> {
+};
+
+TEST_P(ZoomingOrbitMapping, ReconstructsAtTheNoiseFloor) {
   const SyntheticScene scene = GenerateSyntheticScene(ZoomingOrbit());
   MapperInput in = MakeInput(scene);
-  IncrementalMapper mapper(in.graph, {}, IncrementalMapperOptions{});
+  IncrementalMapperOptions options;
+  options.global_ba_trust_region = GetParam();
+  IncrementalMapper mapper(in.graph, {}, options);
   const MapperSummary summary = mapper.Reconstruct(&in.reconstruction);
   ASSERT_TRUE(summary.success) << summary.message;
   const Reconstruction& rec = in.reconstruction;
@@ -98,6 +104,16 @@ TEST(IncrementalMapper, ReconstructsZoomingOrbitAtTheNoiseFloor) {
     EXPECT_LT((alignment.sim * estimated[i] - truth[i]).norm(), 0.01 * ZoomingOrbit().orbit_radius)
         << "image " << i;
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    IncrementalMapper, ZoomingOrbitMapping,
+    ::testing::Values(BundleAdjustmentOptions::TrustRegion::kDogleg,
+                      BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt),
+    [](const auto& info) {
+      return info.param == BundleAdjustmentOptions::TrustRegion::kDogleg
+                 ? std::string("Dogleg")
+                 : std::string("LevenbergMarquardt");
+    });
 
 // Runs in one process give the same model bit for bit, although the reconstructions live at
 // different heap addresses (which used to change Ceres' block order; see ba/bundle_adjuster.h),
