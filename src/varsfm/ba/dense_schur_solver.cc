@@ -1159,6 +1159,79 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
 
 namespace {
 
+// The tests and bookkeeping both trust-region loops share (Ceres' order and messages).
+
+// Before a step: true when the gradient is small enough or the steps are used up.
+bool StopBeforeStep(const DenseSchurOptions& options, const DenseSchurProblem& dense,
+                    DenseSchurSummary* summary) {
+  if (dense.GradientMaxNorm() <= options.gradient_tolerance) {
+    summary->converged = true;
+    summary->message = "gradient tolerance reached";
+    return true;
+  }
+  if (summary->successful_steps + summary->unsuccessful_steps >= options.max_iterations) {
+    summary->message = "maximum number of iterations reached";
+    return true;
+  }
+  return false;
+}
+
+// True (converged) when the step is below the parameter tolerance.
+bool StepBelowTolerance(const DenseSchurOptions& options, const DenseSchurProblem& dense,
+                        double step_norm, DenseSchurSummary* summary) {
+  if (step_norm >
+      options.parameter_tolerance * (dense.ParameterNorm() + options.parameter_tolerance))
+    return false;
+  summary->converged = true;
+  summary->message = "parameter tolerance reached";
+  return true;
+}
+
+// Takes the step set in `dense` and evaluates the cost there; the step stays when it lowers the
+// cost by more than kMinRelativeDecrease of the model's decrease, else it is undone.
+struct StepTrial {
+  bool accepted = false;
+  double new_cost = 0.0;
+  double rho = 0.0;  // actual over predicted decrease (0 when not evaluated)
+};
+StepTrial TryStep(DenseSchurProblem* dense, double cost, double model_decrease,
+                  DenseSchurSummary* summary) {
+  StepTrial trial;
+  trial.new_cost = cost;
+  if (!(model_decrease > 0.0) || !dense->Step()) return trial;
+  const Timer timer;
+  const bool evaluated = dense->Evaluate(/*linearise=*/false, &trial.new_cost);
+  summary->seconds_residuals += timer.Seconds();
+  if (evaluated && std::isfinite(trial.new_cost)) {
+    trial.rho = (cost - trial.new_cost) / model_decrease;
+    trial.accepted = trial.rho > kMinRelativeDecrease;
+  }
+  if (!trial.accepted) dense->Restore();
+  return trial;
+}
+
+// An accepted step: the cost and summary move to it. True when the function tolerance stops.
+bool AcceptStep(const DenseSchurOptions& options, const DenseSchurProblem& dense, double new_cost,
+                double* cost, DenseSchurSummary* summary) {
+  ++summary->successful_steps;
+  const double relative_change = (*cost - new_cost) / *cost;
+  *cost = new_cost;
+  summary->final_cost = new_cost;
+  summary->final_squared_norm = dense.squared_norm();
+  if (relative_change > options.function_tolerance) return false;
+  summary->converged = true;
+  summary->message = "function tolerance reached";
+  return true;
+}
+
+// A rejected step on a radius already below its minimum stops (converged).
+bool RadiusBelowMinimum(double radius, DenseSchurSummary* summary) {
+  if (radius >= kMinRadius) return false;
+  summary->converged = true;
+  summary->message = "trust region radius below its minimum";
+  return true;
+}
+
 // The dogleg iterations (Powell; Ceres' DoglegStrategy, traditional variant): the
 // Gauss-Newton step with a small damping mu_gn (raised tenfold while the reduced system is not
 // positive definite), the Cauchy point along the scaled gradient, and between them the point of
@@ -1174,15 +1247,7 @@ void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* 
   bool reuse = false;
   DenseSchurProblem::DoglegTerms t;
   while (true) {
-    if (dense->GradientMaxNorm() <= options.gradient_tolerance) {
-      summary->converged = true;
-      summary->message = "gradient tolerance reached";
-      return;
-    }
-    if (summary->successful_steps + summary->unsuccessful_steps >= options.max_iterations) {
-      summary->message = "maximum number of iterations reached";
-      return;
-    }
+    if (StopBeforeStep(options, *dense, summary)) return;
     if (!reuse) {
       double model_decrease = 0.0, step_norm = 0.0;
       bool solved = false;
@@ -1221,24 +1286,11 @@ void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* 
     const double step_scaled =
         std::sqrt(std::max(a * a * t.p_D_p + 2.0 * a * b * t.g_p + b * b * t.g_u, 0.0));
     const double step_norm = dense->SetDoglegStep(a, b);
-    if (step_norm <=
-        options.parameter_tolerance * (dense->ParameterNorm() + options.parameter_tolerance)) {
-      summary->converged = true;
-      summary->message = "parameter tolerance reached";
-      return;
-    }
-    bool accepted = false;
-    double new_cost = *cost, rho = 0.0;
-    if (model_decrease > 0.0 && dense->Step()) {
-      const Timer timer;
-      const bool evaluated = dense->Evaluate(/*linearise=*/false, &new_cost);
-      summary->seconds_residuals += timer.Seconds();
-      if (evaluated && std::isfinite(new_cost)) {
-        rho = (*cost - new_cost) / model_decrease;
-        accepted = rho > kMinRelativeDecrease;
-      }
-      if (!accepted) dense->Restore();
-    }
+    if (StepBelowTolerance(options, *dense, step_norm, summary)) return;
+    const StepTrial trial = TryStep(dense, *cost, model_decrease, summary);
+    const bool accepted = trial.accepted;
+    const double rho = trial.rho;
+    double new_cost = trial.new_cost;
     // The cost fell well beyond the model's prediction (rho > 1.2): the model's curvature along
     // the step is too high (the Gauss-Newton term drops the residuals' own curvature, and a
     // robust loss flattens), so the step stops short. The parabola through the cost at 0 and 1
@@ -1284,28 +1336,15 @@ void Dogleg(const DenseSchurOptions& options, DenseSchurProblem* dense, double* 
       ++summary->unsuccessful_steps;
       radius *= 0.5;
       reuse = true;
-      if (radius < kMinRadius) {
-        summary->converged = true;
-        summary->message = "trust region radius below its minimum";
-        return;
-      }
+      if (RadiusBelowMinimum(radius, summary)) return;
       continue;
     }
-    ++summary->successful_steps;
     if (rho < 0.25) radius *= 0.5;
     if (rho > 0.75) radius = std::max(radius, 3.0 * extrapolation * step_scaled);
     radius = std::min(radius, kMaxRadius);
     mu = std::max(kMinMu, mu / 5.0);
     reuse = false;
-    const double relative_change = (*cost - new_cost) / *cost;
-    *cost = new_cost;
-    summary->final_cost = new_cost;
-    summary->final_squared_norm = dense->squared_norm();
-    if (relative_change <= options.function_tolerance) {
-      summary->converged = true;
-      summary->message = "function tolerance reached";
-      return;
-    }
+    if (AcceptStep(options, *dense, new_cost, cost, summary)) return;
     if (!linearise()) {
       summary->message = "a cost function failed";
       return;
@@ -1351,71 +1390,35 @@ DenseSchurSummary SolveWithDenseSchur(const DenseSchurOptions& options,
   double radius = options.initial_trust_region_radius;
   double decrease_factor = 2.0;
   while (true) {
-    if (dense.GradientMaxNorm() <= options.gradient_tolerance) {
-      summary.converged = true;
-      summary.message = "gradient tolerance reached";
-      break;
-    }
-    if (summary.successful_steps + summary.unsuccessful_steps >= options.max_iterations) {
-      summary.message = "maximum number of iterations reached";
-      break;
-    }
+    if (StopBeforeStep(options, dense, &summary)) break;
     const double mu = 1.0 / radius;
     double model_decrease = 0.0, step_norm = 0.0;
-    bool accepted = false;
-    double new_cost = cost, new_squared_norm = 0.0;
+    StepTrial trial;
+    trial.new_cost = cost;
     Timer solve_timer;
     const bool solved = dense.SolveStep(mu, &model_decrease, &step_norm);
     summary.seconds_solve += solve_timer.Seconds();
     if (solved) {
-      const double x_norm = dense.ParameterNorm();
-      if (step_norm <= options.parameter_tolerance * (x_norm + options.parameter_tolerance)) {
-        summary.converged = true;
-        summary.message = "parameter tolerance reached";
-        break;
-      }
-      if (model_decrease > 0.0 && dense.Step()) {
-        const Timer t;
-        const bool evaluated = dense.Evaluate(/*linearise=*/false, &new_cost);
-        new_squared_norm = dense.squared_norm();
-        summary.seconds_residuals += t.Seconds();
-        if (evaluated && std::isfinite(new_cost)) {
-          const double rho = (cost - new_cost) / model_decrease;
-          accepted = rho > kMinRelativeDecrease;
-          if (accepted)
-            radius = std::min(kMaxRadius,
-                              radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
-        }
-        if (!accepted) dense.Restore();
-      }
+      if (StepBelowTolerance(options, dense, step_norm, &summary)) break;
+      trial = TryStep(&dense, cost, model_decrease, &summary);
+      if (trial.accepted)
+        radius = std::min(kMaxRadius,
+                          radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * trial.rho - 1.0, 3)));
     }
     if (options.progress_to_stdout)
       std::printf("%4d %s cost %.6e change %+.3e step %.3e rho %.3f radius %.3e\n",
-                  summary.successful_steps + summary.unsuccessful_steps, accepted ? "ok  " : "fail",
-                  accepted ? new_cost : cost, cost - new_cost, step_norm,
-                  model_decrease > 0.0 ? (cost - new_cost) / model_decrease : 0.0, radius);
-    if (!accepted) {
+                  summary.successful_steps + summary.unsuccessful_steps,
+                  trial.accepted ? "ok  " : "fail", trial.accepted ? trial.new_cost : cost,
+                  cost - trial.new_cost, step_norm, trial.rho, radius);
+    if (!trial.accepted) {
       ++summary.unsuccessful_steps;
       radius /= decrease_factor;
       decrease_factor *= 2.0;
-      if (radius < kMinRadius) {
-        summary.converged = true;
-        summary.message = "trust region radius below its minimum";
-        break;
-      }
+      if (RadiusBelowMinimum(radius, &summary)) break;
       continue;
     }
-    ++summary.successful_steps;
     decrease_factor = 2.0;
-    const double relative_change = (cost - new_cost) / cost;
-    cost = new_cost;
-    summary.final_cost = cost;
-    summary.final_squared_norm = new_squared_norm;
-    if (relative_change <= options.function_tolerance) {
-      summary.converged = true;
-      summary.message = "function tolerance reached";
-      break;
-    }
+    if (AcceptStep(options, dense, trial.new_cost, &cost, &summary)) break;
     if (!linearise()) {
       summary.message = "a cost function failed";
       break;
