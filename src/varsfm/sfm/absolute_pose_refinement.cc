@@ -1,8 +1,13 @@
 #include "varsfm/sfm/absolute_pose_refinement.h"
 
-#include <ceres/ceres.h>
+#include <deque>
+#include <memory>
+
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
+#include "varsfm/ba/dense_schur_solver.h"
 
 namespace varsfm {
 
@@ -11,22 +16,6 @@ bool RefineAbsolutePose(const AbsolutePoseRefinementOptions& options,
                         const std::vector<Eigen::Vector3d>& points3D, Camera* camera,
                         Rigid3d* cam_from_world) {
   if (points2D.size() != points3D.size() || points2D.size() < 6) return false;
-  std::vector<Eigen::Vector3d> points = points3D;  // Ceres needs mutable blocks, held constant
-  ceres::Problem::Options problem_options;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  ceres::CauchyLoss loss(options.loss_scale_px);
-  double* q = cam_from_world->rotation.coeffs().data();
-  double* t = cam_from_world->translation.data();
-  for (size_t i = 0; i < points.size(); ++i) {
-    // The analytic Jacobians (ba/analytic_reprojection_cost.h) of the model the bundle
-    // adjustments use: automatic differentiation took half of the refinement's time.
-    problem.AddResidualBlock(new AnalyticReprojectionCost(points2D[i]), &loss,
-                             camera->params.data(), q, t, points[i].data());
-    problem.SetParameterBlockConstant(points[i].data());
-  }
-  problem.SetManifold(q, new ceres::EigenQuaternionManifold);
-
   const IntrinsicsOptions& in = options.intrinsics;
   std::vector<int> held;
   if (!in.refine_focal) held.push_back(Camera::kFocal);
@@ -38,20 +27,37 @@ bool RefineAbsolutePose(const AbsolutePoseRefinementOptions& options,
   }
   if (!in.refine_k1) held.push_back(Camera::kK1);
   if (!in.refine_k2) held.push_back(Camera::kK2);
-  if (held.size() == Camera::kNumParams) {
-    problem.SetParameterBlockConstant(camera->params.data());
-  } else if (!held.empty()) {
-    problem.SetManifold(camera->params.data(), new ceres::SubsetManifold(Camera::kNumParams, held));
-  }
+  const bool camera_constant = held.size() == Camera::kNumParams;
+  std::unique_ptr<ceres::Manifold> camera_manifold;
+  if (!camera_constant && !held.empty())
+    camera_manifold = std::make_unique<ceres::SubsetManifold>(Camera::kNumParams, held);
+  const ceres::EigenQuaternionManifold rotation_manifold;
+  const ceres::CauchyLoss loss(options.loss_scale_px);
 
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  // One image's pose and free intrinsics, the points held: nothing to eliminate, a reduced
+  // system of at most 7 + 3 + 3 columns.
+  double* q = cam_from_world->rotation.coeffs().data();
+  double* t = cam_from_world->translation.data();
+  SchurProblem problem;
+  problem.Reserve(3 + points3D.size(), points2D.size(), 4 * points2D.size());
+  problem.AddParameterBlock(camera->params.data(), Camera::kNumParams, camera_manifold.get(),
+                            camera_constant);
+  problem.AddParameterBlock(q, 4, &rotation_manifold);
+  problem.AddParameterBlock(t, 3);
+  std::deque<AnalyticReprojectionCost> costs;
+  for (size_t i = 0; i < points2D.size(); ++i) {
+    // The solver never writes a constant block.
+    double* point = const_cast<double*>(points3D[i].data());
+    problem.AddParameterBlock(point, 3, nullptr, /*constant=*/true);
+    costs.emplace_back(points2D[i]);
+    const double* blocks[] = {camera->params.data(), q, t, point};
+    problem.AddResidualBlock(&costs.back(), &loss, blocks, 4);
+  }
+  DenseSchurOptions solver;
+  solver.max_iterations = options.max_iterations;
+  const DenseSchurSummary summary = SolveWithDenseSchur(solver, /*eliminate=*/{}, problem);
   cam_from_world->rotation.normalize();
-  return summary.IsSolutionUsable();
+  return summary.usable;
 }
 
 }  // namespace varsfm
