@@ -49,6 +49,10 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                   "global BAs stop when an iteration lowers the cost by less than this fraction")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--growth-ba-tolerance", m.growth_ba_function_tolerance,
+                  "the same for the global BAs as the model grows (--global-ba-growth)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   static const std::map<std::string, varsfm::BundleAdjustmentOptions::TrustRegion> kRegions = {
       {"dogleg", varsfm::BundleAdjustmentOptions::TrustRegion::kDogleg},
       {"lm", varsfm::BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt}};

@@ -115,6 +115,60 @@ INSTANTIATE_TEST_SUITE_P(
                  : std::string("LevenbergMarquardt");
     });
 
+// A longer sequence filmed sideways in order, so that the model grows past M0 and the growth
+// adjustments run (13 images, then x1.4): with their looser tolerance they take fewer steps than
+// at the final one's, and the final adjustment still brings the model to the noise floor.
+TEST(IncrementalMapper, GrowthAdjustmentsStopEarlierAndTheModelReachesTheNoiseFloor) {
+  SyntheticOptions o;
+  o.structure = SyntheticOptions::Structure::kFacade;
+  o.path = SyntheticOptions::Path::kSideways;
+  o.num_images = 36;
+  o.num_points = 2500;
+  o.scene_extent = 3.0;
+  o.focal_start = 900;
+  o.focal_end = 1300;
+  o.noise_sigma = 0.5;
+  const SyntheticScene scene = GenerateSyntheticScene(o);
+  const auto map = [&](double growth_tolerance, Reconstruction* out) {
+    MapperInput in = MakeInput(scene);
+    IncrementalMapperOptions options;
+    options.sequential_order = true;
+    options.growth_ba_function_tolerance = growth_tolerance;
+    IncrementalMapper mapper(in.graph, {}, options);
+    const MapperSummary summary = mapper.Reconstruct(&in.reconstruction);
+    *out = in.reconstruction;
+    return summary;
+  };
+  Reconstruction loose, tight;
+  const MapperSummary loose_summary = map(1e-4, &loose);
+  const MapperSummary tight_summary = map(1e-8, &tight);
+  ASSERT_TRUE(loose_summary.success) << loose_summary.message;
+  ASSERT_TRUE(tight_summary.success) << tight_summary.message;
+  // M0, at least two growth adjustments (13 -> 19 -> 27) and the final one.
+  EXPECT_GE(loose_summary.num_global_ba, 4u);
+  EXPECT_EQ(loose_summary.num_global_ba, tight_summary.num_global_ba);
+  EXPECT_LT(loose_summary.num_global_ba_iterations, tight_summary.num_global_ba_iterations);
+
+  for (const Reconstruction* rec : {&loose, &tight}) {
+    EXPECT_EQ(rec->NumRegisteredImages(), static_cast<size_t>(o.num_images));
+    EXPECT_LT(rec->RmsReprojectionError(), 0.75);  // 0.5 px per axis: 0.71 px per observation
+    std::vector<Eigen::Vector3d> estimated, truth;
+    for (int i = 0; i < scene.NumImages(); ++i) {
+      const Image& image = rec->image(i + 1);
+      if (!image.registered) continue;
+      EXPECT_NEAR(rec->camera(image.camera_id).focal() / scene.cameras[i].focal(), 1.0, 0.01)
+          << "image " << i;
+      estimated.push_back(image.Center());
+      truth.push_back(scene.poses[i].Center());
+    }
+    const AlignmentResult alignment = AlignSimilarity(estimated, truth);
+    ASSERT_TRUE(alignment.success);
+    const double extent = (truth.front() - truth.back()).norm();
+    for (size_t i = 0; i < estimated.size(); ++i)
+      EXPECT_LT((alignment.sim * estimated[i] - truth[i]).norm(), 0.01 * extent) << "image " << i;
+  }
+}
+
 // Runs in one process give the same model bit for bit, although the reconstructions live at
 // different heap addresses (which used to change Ceres' block order; see ba/bundle_adjuster.h),
 // and whatever the number of bundle-adjustment threads (the native solver sums in a fixed order).

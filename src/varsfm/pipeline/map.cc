@@ -249,6 +249,7 @@ MapResult RunMapping(const MapOptions& options) {
     summary["initial_focal_prior_scale"] = result.mapper.initial_focal_scale;
   summary["local_bundle_adjustments"] = result.mapper.num_local_ba;
   summary["global_bundle_adjustments"] = result.mapper.num_global_ba;
+  summary["global_bundle_adjustment_iterations"] = result.mapper.num_global_ba_iterations;
   std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
   info("map: {}/{} images registered, {} points, RMS {:.3f} px, {:.2f} s",
        rec.NumRegisteredImages(), rec.images().size(), rec.points3D().size(),

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <set>
 
 #include "varsfm/util/error.h"
 
@@ -129,7 +128,8 @@ double Reconstruction::UpdatePointErrors() {
   size_t n = 0;
   for (auto& [id, point] : points3D_) {
     double point_sum = 0;
-    for (const auto& el : point.track) point_sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
+    for (const auto& el : point.track)
+      point_sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
     point.error = point.track.empty() ? -1.0 : point_sum / point.track.size();
     sum += point_sum;
     n += point.track.size();
@@ -168,11 +168,12 @@ std::vector<point3D_t> PointsSeenBy(const Reconstruction& rec, const std::vector
     for (const auto& [id, point] : rec.points3D()) out.push_back(id);
     return out;
   }
-  std::set<point3D_t> seen;
   for (const image_t image_id : ids)
     for (const auto& p2 : rec.image(image_id).points2D)
-      if (p2.HasPoint3D()) seen.insert(p2.point3D_id);
-  return {seen.begin(), seen.end()};
+      if (p2.HasPoint3D()) out.push_back(p2.point3D_id);
+  std::sort(out.begin(), out.end());  // ascending, each once
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 }  // namespace
@@ -182,8 +183,13 @@ size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
   const double max_sq = max_error_px * max_error_px;
   size_t removed = 0;
   for (const point3D_t id : PointsSeenBy(*this, image_ids)) {
-    if (!ExistsPoint3D(id)) continue;
-    const Point3D point = points3D_.at(id);  // copy: DeleteObservation edits the track
+    const auto it = points3D_.find(id);
+    if (it == points3D_.end()) continue;
+    const auto too_far = [&](const TrackElement& el) {
+      return SquaredReprojectionError(el, it->second.xyz) > max_sq;
+    };
+    if (std::none_of(it->second.track.begin(), it->second.track.end(), too_far)) continue;
+    const Point3D point = it->second;  // copy: DeleteObservation edits the track
     for (const auto& el : point.track) {
       if (SquaredReprojectionError(el, point.xyz) <= max_sq) continue;
       DeleteObservation(el.image_id, el.point2D_idx);
