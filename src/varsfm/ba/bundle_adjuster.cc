@@ -434,6 +434,14 @@ ParameterBlockSpec ImageBlock(const PoseHold& hold, unsigned held_camera, double
 
 }  // namespace
 
+std::vector<int> HeldIntrinsics(const IntrinsicsOptions& options) {
+  const unsigned held = HeldIntrinsicsMask(options);
+  std::vector<int> params;
+  for (int i = 0; i < Camera::kNumParams; ++i)
+    if ((held >> i) & 1u) params.push_back(i);
+  return params;
+}
+
 BundleAdjustmentConfig BundleAdjustmentConfig::Global(const Reconstruction& reconstruction) {
   BundleAdjustmentConfig config;
   for (const image_t id : reconstruction.RegisteredImageIds())

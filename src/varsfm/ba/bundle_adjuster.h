@@ -58,6 +58,9 @@ struct IntrinsicsOptions {
   int min_images_to_share = 3;
 };
 
+// The camera parameters (Camera::Param indices, ascending) that `options` holds at their values.
+std::vector<int> HeldIntrinsics(const IntrinsicsOptions& options);
+
 struct BundleAdjustmentOptions {
   enum class Loss { kTrivial, kHuber, kCauchy };
   // How the normal equations are solved; kAuto chooses by problem size (see ChooseSolver in

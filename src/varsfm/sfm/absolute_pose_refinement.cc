@@ -16,17 +16,7 @@ bool RefineAbsolutePose(const AbsolutePoseRefinementOptions& options,
                         const std::vector<Eigen::Vector3d>& points3D, Camera* camera,
                         Rigid3d* cam_from_world) {
   if (points2D.size() != points3D.size() || points2D.size() < 6) return false;
-  const IntrinsicsOptions& in = options.intrinsics;
-  std::vector<int> held;
-  if (!in.refine_focal) held.push_back(Camera::kFocal);
-  if (!in.refine_aspect) held.push_back(Camera::kAspect);
-  if (!in.refine_skew) held.push_back(Camera::kSkew);
-  if (!in.refine_principal_point) {
-    held.push_back(Camera::kU0);
-    held.push_back(Camera::kV0);
-  }
-  if (!in.refine_k1) held.push_back(Camera::kK1);
-  if (!in.refine_k2) held.push_back(Camera::kK2);
+  const std::vector<int> held = HeldIntrinsics(options.intrinsics);
   const bool camera_constant = held.size() == Camera::kNumParams;
   std::unique_ptr<ceres::Manifold> camera_manifold;
   if (!camera_constant && !held.empty())
