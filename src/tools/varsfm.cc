@@ -10,6 +10,7 @@
 #include "varsfm/pipeline/demo.h"
 #include "varsfm/pipeline/densify.h"
 #include "varsfm/pipeline/evaluate.h"
+#include "varsfm/pipeline/export.h"
 #include "varsfm/pipeline/extract.h"
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
@@ -342,6 +343,25 @@ int main(int argc, char** argv) {
                     "model.obj or its folder (default OUT/textured)");
     cmd->add_flag("--mask", render.write_mask, "also write NAME_mask.png (255: mesh covers)");
     cmd->callback([&render] { varsfm::RunRender(render); });
+  }
+
+  // export: the model and photos in the layout of 3D Gaussian Splatting or nerfstudio.
+  varsfm::ExportOptions export_options;
+  std::string export_format = "3dgs";
+  {
+    CLI::App* cmd = app.add_subcommand(
+        "export", "write the model for 3D Gaussian Splatting (3dgs) or nerfstudio");
+    cmd->add_option("--format", export_format, "3dgs | nerfstudio")->capture_default_str();
+    cmd->add_option("model", export_options.model,
+                    "output folder of run/map, or a COLMAP model folder")
+        ->required();
+    cmd->add_option("output", export_options.output, "folder to create")->required();
+    cmd->add_option("--images", export_options.image_dir,
+                    "the photos (default: where the run that made the model read them)");
+    cmd->callback([&export_options, &export_format] {
+      export_options.format = varsfm::ParseExportFormat(export_format);
+      varsfm::RunExport(export_options);
+    });
   }
 
   try {

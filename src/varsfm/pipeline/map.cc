@@ -250,6 +250,9 @@ MapResult RunMapping(const MapOptions& options) {
   summary["local_bundle_adjustments"] = result.mapper.num_local_ba;
   summary["global_bundle_adjustments"] = result.mapper.num_global_ba;
   summary["global_bundle_adjustment_iterations"] = result.mapper.num_global_ba_iterations;
+  // Where the photos are, so that later commands (export) need not be told again.
+  if (!options.image_dir.empty())
+    summary["image_dir"] = std::filesystem::absolute(options.image_dir).string();
   std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
   info("map: {}/{} images registered, {} points, RMS {:.3f} px, {:.2f} s",
        rec.NumRegisteredImages(), rec.images().size(), rec.points3D().size(),

@@ -1,0 +1,70 @@
+#include "varsfm/export/gaussian_splatting.h"
+
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "varsfm/camera/colmap_models.h"
+#include "varsfm/export/undistortion.h"
+#include "varsfm/image/image_file.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/new_folder.h"
+
+namespace varsfm {
+
+Reconstruction UndistortReconstruction(const Reconstruction& reconstruction) {
+  Reconstruction undistorted = reconstruction;
+  for (const auto& [camera_id, camera] : reconstruction.cameras()) {
+    undistorted.camera(camera_id) = UndistortedPinholeCamera(camera);
+  }
+  for (const image_t image_id : reconstruction.RegisteredImageIds()) {
+    const Camera& camera = reconstruction.CameraOf(image_id);
+    const Camera& pinhole = undistorted.CameraOf(image_id);
+    for (Point2D& point : undistorted.image(image_id).points2D) {
+      point.xy = UndistortPixel(camera, pinhole, point.xy);
+    }
+  }
+  return undistorted;
+}
+
+GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& reconstruction,
+                                                       const std::filesystem::path& image_dir,
+                                                       const std::filesystem::path& output) {
+  const std::vector<image_t> image_ids = reconstruction.RegisteredImageIds();
+  if (image_ids.empty()) Fail("the model has no registered image to export");
+  for (const image_t id : image_ids) {
+    const std::filesystem::path photo = image_dir / reconstruction.image(id).name;
+    if (!std::filesystem::is_regular_file(photo)) Fail("{}: no such photo", photo.string());
+  }
+  const Reconstruction undistorted = UndistortReconstruction(reconstruction);
+  WriteNewFolder(output, [&](const std::filesystem::path& dir) {
+    for (const image_t id : image_ids) {
+      std::filesystem::create_directories(
+          (dir / "images" / reconstruction.image(id).name).parent_path());
+    }
+    // Images are independent; the first error (a photo that cannot be read) is rethrown.
+    std::vector<std::string> errors(image_ids.size());
+    tbb::parallel_for(size_t{0}, image_ids.size(), [&](size_t i) {
+      try {
+        const Image& image = reconstruction.image(image_ids[i]);
+        const cv::Mat photo = ReadImagePixels(image_dir / image.name, ColorMode::kColor);
+        const cv::Mat pixels = UndistortImage(photo, reconstruction.CameraOf(image.image_id),
+                                              undistorted.CameraOf(image.image_id));
+        WriteImage(dir / "images" / image.name, pixels);
+      } catch (const Error& e) {
+        errors[i] = fmt::format("{}: {}", reconstruction.image(image_ids[i]).name, e.what());
+      }
+    });
+    for (const std::string& error : errors) {
+      if (!error.empty()) throw Error(error);
+    }
+    ColmapWriteOptions colmap;
+    colmap.binary = true;
+    colmap.force_model_id = kColmapPinhole;
+    WriteColmapModel(undistorted, dir / "sparse" / "0", colmap);
+  });
+  return {image_ids.size(), reconstruction.points3D().size()};
+}
+
+}  // namespace varsfm

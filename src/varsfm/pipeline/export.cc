@@ -1,0 +1,92 @@
+#include "varsfm/pipeline/export.h"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "varsfm/export/gaussian_splatting.h"
+#include "varsfm/export/nerfstudio.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+bool IsModelFolder(const std::filesystem::path& dir) {
+  return std::filesystem::exists(dir / "cameras.bin") ||
+         std::filesystem::exists(dir / "cameras.txt");
+}
+
+// The model folder itself, or model 0 of a run's output (OUT/sparse/0, or OUT/sparse).
+std::filesystem::path FindModelFolder(const std::filesystem::path& path) {
+  for (const auto& candidate : {path, path / "0", path / "sparse" / "0", path / "sparse"}) {
+    if (IsModelFolder(candidate)) return candidate;
+  }
+  Fail("--model {}: no COLMAP model there (cameras.bin or cameras.txt), nor in its sparse/0",
+       path.string());
+}
+
+// The photos: as given, or where the run that made the model read them (OUT/summary.json).
+std::filesystem::path FindImageFolder(const ExportOptions& options) {
+  if (!options.image_dir.empty()) return options.image_dir;
+  const std::filesystem::path summary_file = options.model / "summary.json";
+  if (std::filesystem::is_regular_file(summary_file)) {
+    const nlohmann::json summary =
+        nlohmann::json::parse(std::ifstream(summary_file), nullptr, /*allow_exceptions=*/false);
+    if (summary.is_object() && summary.contains("image_dir") && summary["image_dir"].is_string())
+      return summary["image_dir"].get<std::string>();
+  }
+  Fail("--images: not given, and {} does not say where the photos are", summary_file.string());
+}
+
+}  // namespace
+
+ExportFormat ParseExportFormat(const std::string& name) {
+  if (name == "3dgs") return ExportFormat::kGaussianSplatting;
+  if (name == "nerfstudio") return ExportFormat::kNerfstudio;
+  Fail("--format {}: expected 3dgs or nerfstudio", name);
+}
+
+void ExportOptions::Check() const {
+  if (model.empty()) Fail("--model: no model given");
+  if (!std::filesystem::exists(model)) Fail("--model {}: no such folder", model.string());
+  if (!image_dir.empty() && !std::filesystem::is_directory(image_dir)) {
+    Fail("--images {}: no such folder", image_dir.string());
+  }
+  if (output.empty()) Fail("--output: no output folder given");
+  std::error_code ec;
+  if (std::filesystem::exists(output, ec) &&
+      (!std::filesystem::is_directory(output, ec) || !std::filesystem::is_empty(output, ec))) {
+    Fail("--output {}: already exists and is not an empty folder", output.string());
+  }
+}
+
+ExportSummary RunExport(const ExportOptions& options) {
+  options.Check();
+  Timer timer;
+  const std::filesystem::path model_dir = FindModelFolder(options.model);
+  const Reconstruction reconstruction = ReadColmapModel(model_dir);
+  const std::filesystem::path image_dir = FindImageFolder(options);
+  if (!std::filesystem::is_directory(image_dir)) {
+    Fail("{}: the photos' folder does not exist (give --images)", image_dir.string());
+  }
+  ExportSummary summary;
+  if (options.format == ExportFormat::kGaussianSplatting) {
+    const GaussianSplattingExportSummary s =
+        ExportGaussianSplatting(reconstruction, image_dir, options.output);
+    summary.num_images = s.num_images;
+    summary.num_points = s.num_points;
+  } else {
+    const NerfstudioExportSummary s = ExportNerfstudio(reconstruction, image_dir, options.output);
+    summary.num_images = s.num_frames;
+    summary.num_points = s.num_points;
+  }
+  summary.seconds = timer.Seconds();
+  info("export: {} images, {} points from {} in {:.1f} s -> {}", summary.num_images,
+       summary.num_points, model_dir.string(), summary.seconds, options.output.string());
+  return summary;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,37 @@
+#pragma once
+// `varsfm export`: a sparse model and its photos in the layout of the tool a user takes them to
+// next — 3D Gaussian Splatting (undistorted images + PINHOLE COLMAP model) or nerfstudio
+// (transforms.json with per-frame intrinsics).
+#include <filesystem>
+#include <string>
+
+namespace varsfm {
+
+enum class ExportFormat { kGaussianSplatting, kNerfstudio };
+
+// "3dgs" / "nerfstudio"; throws varsfm::Error naming the choices for anything else.
+ExportFormat ParseExportFormat(const std::string& name);
+
+struct ExportOptions {
+  ExportFormat format = ExportFormat::kGaussianSplatting;
+  // A COLMAP model folder, or the output folder of `run` / `map` (its model 0 is exported).
+  std::filesystem::path model;
+  // The photos, by the model's image names; empty: where the run that made the model read them
+  // (the "image_dir" of MODEL/summary.json).
+  std::filesystem::path image_dir;
+  std::filesystem::path output;  // created; must not exist or be empty
+
+  // Throws varsfm::Error (one line naming the option) for a missing model or image folder, no
+  // output path, or an output that already holds files.
+  void Check() const;
+};
+
+struct ExportSummary {
+  size_t num_images = 0;
+  size_t num_points = 0;
+  double seconds = 0;
+};
+
+ExportSummary RunExport(const ExportOptions& options);
+
+}  // namespace varsfm

@@ -1,0 +1,202 @@
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "export/scene.h"
+#include "support/test_data.h"
+#include "varsfm/export/gaussian_splatting.h"
+#include "varsfm/export/nerfstudio.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/pipeline/export.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/new_folder.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::TempDir;
+
+using testing::ZoomingModel;
+
+// The 3DGS layout: PINHOLE cameras that keep each image's focal, photos of the cameras' sizes,
+// and every observation where its 3D point projects through the pinhole camera.
+TEST(GaussianSplattingExport, WritesPinholeModelAndUndistortedPhotos) {
+  TempDir tmp("export_3dgs");
+  const Reconstruction model = ZoomingModel();
+  testing::WritePhotos(model, tmp.path() / "photos");
+  const auto summary = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
+  EXPECT_EQ(summary.num_images, model.NumRegisteredImages());
+
+  const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
+  ASSERT_EQ(exported.NumRegisteredImages(), model.NumRegisteredImages());
+  std::set<double> focals;
+  for (const auto& [id, image] : exported.images()) {
+    const Camera& pinhole = exported.CameraOf(id);
+    const Camera& original = model.CameraOf(id);
+    EXPECT_FALSE(pinhole.HasDistortion());
+    EXPECT_NEAR(pinhole.focal(), original.focal(), 1e-9);
+    focals.insert(pinhole.focal());
+    const cv::Mat photo = ReadImagePixels(tmp.path() / "gs" / "images" / image.name);
+    EXPECT_EQ(photo.cols, pinhole.width);
+    EXPECT_EQ(photo.rows, pinhole.height);
+    for (const Point2D& point : image.points2D) {
+      if (!point.HasPoint3D()) continue;
+      Eigen::Vector2d projected;
+      ASSERT_TRUE(exported.Project(id, exported.point3D(point.point3D_id).xyz, &projected));
+      EXPECT_LT((projected - point.xy).norm(), 1e-3);
+    }
+  }
+  EXPECT_EQ(focals.size(), exported.images().size());  // each image its own focal
+  // Only the finished folder is left.
+  for (const auto& entry : fs::directory_iterator(tmp.path())) {
+    EXPECT_TRUE(entry.path().filename() == "photos" || entry.path().filename() == "gs")
+        << entry.path();
+  }
+}
+
+// COLMAP itself reads the exported model (COLMAP is a test dependency; skipped without it).
+TEST(GaussianSplattingExport, ColmapReadsTheModel) {
+  if (testing::RunCommand("command -v colmap >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "colmap is not installed; skipping";
+  }
+  TempDir tmp("export_3dgs_colmap");
+  const Reconstruction model = ZoomingModel();
+  testing::WritePhotos(model, tmp.path() / "photos");
+  ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
+  std::string output;
+  ASSERT_EQ(testing::RunCommand("colmap model_analyzer --path " +
+                                    testing::ShellQuote(tmp.path() / "gs" / "sparse" / "0"),
+                                &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("Registered images: " + std::to_string(model.NumRegisteredImages())),
+            std::string::npos)
+      << output;
+}
+
+TEST(GaussianSplattingExport, MissingPhotoFailsWithoutOutput) {
+  TempDir tmp("export_3dgs_missing");
+  const Reconstruction model = ZoomingModel();
+  testing::WritePhotos(model, tmp.path() / "photos");
+  fs::remove(tmp.path() / "photos" / model.images().begin()->second.name);
+  EXPECT_THROW(ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs"), Error);
+  EXPECT_FALSE(fs::exists(tmp.path() / "gs"));
+}
+
+// nerfstudio's convention: c2w maps the OpenGL camera (x right, y up, looking down -z) into the
+// world, and a point projects as u = fl_x x / -z + cx, v = -fl_y y / -z + cy.
+TEST(NerfstudioExport, FramesProjectLikeTheModel) {
+  SyntheticOptions options = testing::ZoomingDistortedCapture();
+  options.k1 = options.k2 = 0;  // compare pinhole projections exactly
+  const Reconstruction model = ZoomingModel(options);
+  const nlohmann::json transforms = NerfstudioTransforms(model);
+  EXPECT_EQ(transforms["camera_model"], "OPENCV");
+  ASSERT_EQ(transforms["frames"].size(), model.NumRegisteredImages());
+  for (const nlohmann::json& frame : transforms["frames"]) {
+    const image_t id = frame["colmap_im_id"];
+    const Camera& camera = model.CameraOf(id);
+    EXPECT_EQ(frame["file_path"], "images/" + model.image(id).name);
+    EXPECT_DOUBLE_EQ(frame["fl_x"].get<double>(), camera.focal());
+    EXPECT_DOUBLE_EQ(frame["fl_y"].get<double>(), camera.fy());
+    Eigen::Matrix4d c2w;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) c2w(r, c) = frame["transform_matrix"][r][c];
+    EXPECT_LT((c2w.topRightCorner<3, 1>() - model.image(id).Center()).norm(), 1e-9);
+    const Eigen::Matrix4d w2c = c2w.inverse();
+    int checked = 0;
+    for (const Point2D& point : model.image(id).points2D) {
+      if (!point.HasPoint3D()) continue;
+      const Eigen::Vector3d xyz = model.point3D(point.point3D_id).xyz;
+      const Eigen::Vector3d p = (w2c * xyz.homogeneous()).head<3>();
+      ASSERT_LT(p.z(), 0);
+      const Eigen::Vector2d uv(
+          frame["fl_x"].get<double>() * p.x() / -p.z() + frame["cx"].get<double>(),
+          -frame["fl_y"].get<double>() * p.y() / -p.z() + frame["cy"].get<double>());
+      Eigen::Vector2d expected;
+      ASSERT_TRUE(model.Project(id, xyz, &expected));
+      EXPECT_LT((uv - expected).norm(), 1e-6);
+      ++checked;
+    }
+    EXPECT_GT(checked, 10);
+  }
+}
+
+TEST(NerfstudioExport, WritesTransformsPhotosAndPoints) {
+  TempDir tmp("export_nerfstudio");
+  const Reconstruction model = ZoomingModel();
+  testing::WritePhotos(model, tmp.path() / "photos");
+  ExportNerfstudio(model, tmp.path() / "photos", tmp.path() / "ns");
+  const nlohmann::json transforms =
+      nlohmann::json::parse(std::ifstream(tmp.path() / "ns" / "transforms.json"));
+  for (const nlohmann::json& frame : transforms["frames"]) {
+    const image_t id = frame["colmap_im_id"];
+    EXPECT_DOUBLE_EQ(frame["k1"].get<double>(), model.CameraOf(id).params[Camera::kK1]);
+    EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / frame["file_path"].get<std::string>()));
+  }
+  EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / "sparse_pc.ply"));
+}
+
+TEST(ExportOptions, CheckRefusesBadValues) {
+  TempDir tmp("export_options");
+  ExportOptions options;
+  EXPECT_THROW(options.Check(), Error);  // no model
+  options.model = tmp.path() / "missing";
+  options.output = tmp.path() / "out";
+  EXPECT_THROW(options.Check(), Error);
+  options.model = tmp.path();
+  EXPECT_NO_THROW(options.Check());
+  options.image_dir = tmp.path() / "no-photos";
+  EXPECT_THROW(options.Check(), Error);
+  options.image_dir.clear();
+  fs::create_directories(options.output);
+  std::ofstream(options.output / "keep.txt") << "x";
+  EXPECT_THROW(options.Check(), Error);  // an output that holds files is never touched
+  EXPECT_THROW(ParseExportFormat("ply"), Error);
+  EXPECT_EQ(ParseExportFormat("nerfstudio"), ExportFormat::kNerfstudio);
+}
+
+TEST(WriteNewFolder, FailedWriterLeavesNothing) {
+  TempDir tmp("new_folder");
+  EXPECT_THROW(WriteNewFolder(tmp.path() / "out",
+                              [](const fs::path& dir) {
+                                std::ofstream(dir / "half.txt") << "x";
+                                Fail("writer failed");
+                              }),
+               Error);
+  EXPECT_TRUE(fs::is_empty(tmp.path()));
+}
+
+// The command line, as a user runs it on a model folder written by `map`.
+TEST(ExportCommand, WritesBothFormatsAndRefusesAnOccupiedOutput) {
+  TempDir tmp("export_cli");
+  const Reconstruction model = ZoomingModel();
+  testing::WritePhotos(model, tmp.path() / "photos");
+  WriteColmapModel(model, tmp.path() / "sparse", {.binary = true});
+  const auto q = [](const fs::path& p) { return testing::ShellQuote(p); };
+  const std::string base = q(testing::VarsfmBinary()) + " export " + q(tmp.path() / "sparse");
+  std::string output;
+  ASSERT_EQ(
+      testing::RunCommand(
+          base + " " + q(tmp.path() / "gs") + " --images " + q(tmp.path() / "photos"), &output),
+      0)
+      << output;
+  EXPECT_TRUE(fs::is_regular_file(tmp.path() / "gs" / "sparse" / "0" / "cameras.bin"));
+  ASSERT_EQ(testing::RunCommand(base + " " + q(tmp.path() / "ns") +
+                                    " --format nerfstudio --images " + q(tmp.path() / "photos"),
+                                &output),
+            0)
+      << output;
+  EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / "transforms.json"));
+  // Again into the same folder: refused with one line, the folder untouched.
+  EXPECT_NE(testing::RunCommand(base + " " + q(tmp.path() / "ns") +
+                                    " --format nerfstudio --images " + q(tmp.path() / "photos"),
+                                &output),
+            0);
+  EXPECT_NE(output.find("--output"), std::string::npos) << output;
+  EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / "transforms.json"));
+}
+
+}  // namespace
+}  // namespace varsfm

@@ -1,0 +1,101 @@
+#include "varsfm/export/undistortion.h"
+
+#include <gtest/gtest.h>
+
+#include "export/scene.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+Camera DistortedCamera() {
+  Camera camera = Camera::FromFocal(320, 240, 300);
+  camera.camera_id = 1;
+  camera.params[Camera::kAspect] = 1.02;
+  camera.params[Camera::kSkew] = 0.8;
+  camera.params[Camera::kU0] += 5;
+  camera.params[Camera::kV0] -= 3;
+  camera.params[Camera::kK1] = -0.12;
+  camera.params[Camera::kK2] = 0.03;
+  return camera;
+}
+
+// Within a hundredth of a pixel: the border is traced at discrete samples.
+bool InsidePhoto(const Camera& camera, const Eigen::Vector2d& p) {
+  constexpr double kTolerance = 0.01;
+  return p.x() >= -kTolerance && p.y() >= -kTolerance && p.x() <= camera.width + kTolerance &&
+         p.y() <= camera.height + kTolerance;
+}
+
+TEST(Undistortion, PinholeKeepsFocalAndDropsSkewAndDistortion) {
+  const Camera camera = DistortedCamera();
+  const Camera pinhole = UndistortedPinholeCamera(camera);
+  EXPECT_EQ(pinhole.camera_id, camera.camera_id);
+  EXPECT_DOUBLE_EQ(pinhole.focal(), camera.focal());
+  EXPECT_DOUBLE_EQ(pinhole.fy(), camera.fy());
+  EXPECT_EQ(pinhole.params[Camera::kSkew], 0.0);
+  EXPECT_FALSE(pinhole.HasDistortion());
+}
+
+// Every pixel of the undistorted image sees a ray the photo saw (no blank border), and the
+// rectangle is the largest such: one more pixel on any side leaves the photo somewhere.
+TEST(Undistortion, RectangleIsInsideThePhotoAndTight) {
+  const Camera camera = DistortedCamera();
+  const Camera pinhole = UndistortedPinholeCamera(camera);
+  ASSERT_GT(pinhole.width, 200);
+  ASSERT_GT(pinhole.height, 150);
+  const auto photo_pixel = [&](double x, double y) {
+    return camera.NormalizedToImage(pinhole.ImageToNormalized({x, y}));
+  };
+  bool left_tight = false, right_tight = false, top_tight = false, bottom_tight = false;
+  for (int i = 0; i <= 100; ++i) {
+    const double sx = pinhole.width * i / 100.0;
+    const double sy = pinhole.height * i / 100.0;
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(0, sy)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(pinhole.width, sy)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(sx, 0)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(sx, pinhole.height)));
+    left_tight |= !InsidePhoto(camera, photo_pixel(-1.0, sy));
+    right_tight |= !InsidePhoto(camera, photo_pixel(pinhole.width + 1.0, sy));
+    top_tight |= !InsidePhoto(camera, photo_pixel(sx, -1.0));
+    bottom_tight |= !InsidePhoto(camera, photo_pixel(sx, pinhole.height + 1.0));
+  }
+  EXPECT_TRUE(left_tight && right_tight && top_tight && bottom_tight);
+}
+
+TEST(Undistortion, PixelsMoveToThePinholeProjection) {
+  const Camera camera = DistortedCamera();
+  const Camera pinhole = UndistortedPinholeCamera(camera);
+  for (const Eigen::Vector3d& x :
+       {Eigen::Vector3d(0.2, -0.1, 1.0), Eigen::Vector3d(-0.3, 0.25, 1.5),
+        Eigen::Vector3d(0.0, 0.0, 2.0)}) {
+    const Eigen::Vector2d undistorted = UndistortPixel(camera, pinhole, camera.Project(x));
+    EXPECT_LT((undistorted - pinhole.Project(x)).norm(), 1e-6);
+  }
+}
+
+TEST(Undistortion, ImageShowsEachRaysColour) {
+  const Camera camera = DistortedCamera();
+  const Camera pinhole = UndistortedPinholeCamera(camera);
+  const cv::Mat undistorted = UndistortImage(testing::RenderRayPattern(camera), camera, pinhole);
+  ASSERT_EQ(undistorted.cols, pinhole.width);
+  ASSERT_EQ(undistorted.rows, pinhole.height);
+  double max_error = 0;
+  for (int y = 2; y < pinhole.height - 2; ++y) {
+    for (int x = 2; x < pinhole.width - 2; ++x) {
+      const double expected = testing::RayPattern(pinhole.ImageToNormalized({x + 0.5, y + 0.5}));
+      max_error = std::max(max_error, std::abs(undistorted.at<cv::Vec3b>(y, x)[1] - expected));
+    }
+  }
+  // Bilinear interpolation of the pattern plus rounding; a half-pixel shift would be ~15.
+  EXPECT_LT(max_error, 4.0);
+}
+
+TEST(Undistortion, ImageOfAnotherSizeIsRefused) {
+  const Camera camera = DistortedCamera();
+  EXPECT_THROW(UndistortImage(cv::Mat(10, 10, CV_8UC3), camera, UndistortedPinholeCamera(camera)),
+               Error);
+}
+
+}  // namespace
+}  // namespace varsfm
