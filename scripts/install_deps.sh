@@ -9,7 +9,8 @@ pkgs=(build-essential cmake pkg-config libeigen3-dev libceres-dev libsuitesparse
 # libopenblas0-serial becomes the system BLAS/LAPACK (Debian's alternatives): SuiteSparse's
 # supernodal Cholesky, the sparse bundle adjustment above 250 images, runs on it (a 200-image
 # final global BA: 7.6 s with the reference BLAS/ATLAS, 5.4 s); serial, so still reproducible.
-if [[ "${1:-}" == "--with-colmap" ]]; then pkgs+=(colmap); fi
+with_tests=0
+if [[ "${1:-}" == "--with-colmap" ]]; then pkgs+=(colmap); with_tests=1; fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -19,4 +20,15 @@ if ((${#missing[@]})); then
   SUDO=""; [[ $(id -u) -ne 0 ]] && SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+# The tests' Node tools (scripts/node/package.json: the Khronos glTF-Validator), from npm.
+if ((with_tests)); then
+  if ! command -v npm >/dev/null 2>&1; then
+    SUDO=""; [[ $(id -u) -ne 0 ]] && SUDO="sudo"
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
+  fi
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  if [[ ! -d "$root/scripts/node/node_modules/gltf-validator" ]]; then
+    npm ci --prefix "$root/scripts/node" --no-audit --no-fund --silent
+  fi
 fi

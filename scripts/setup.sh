@@ -11,7 +11,11 @@ case "$mode" in
 esac
 jobs="$(nproc)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVARSFM_BUILD_TESTS=ON -DVARSFM_BUILD_BENCH=ON >/dev/null
-cmake --build build -j "$jobs"
+# The demo needs only the command-line tool (and its I/O plug-in); the tests build everything.
+case "$mode" in
+  demo) cmake --build build -j "$jobs" --target varsfm_cli ;;
+  *) cmake --build build -j "$jobs" ;;
+esac
 case "$mode" in
   demo) build/varsfm demo --output build/demo ;;
   test) cd build && ctest --output-on-failure -j "$jobs" ;;

@@ -12,6 +12,25 @@ std::filesystem::path SharedDataDir() {
   return std::filesystem::weakly_canonical(dir);
 }
 
+std::filesystem::path SourceDir() { return VARSFM_SOURCE_DIR; }
+
+bool ValidateGltf(const std::filesystem::path& file, int* exit_code, std::string* output,
+                  std::string* why) {
+  if (RunCommand("command -v node >/dev/null 2>&1") != 0) {
+    *why = "node is not installed";
+    return false;
+  }
+  const auto validator = SourceDir() / "scripts" / "node" / "node_modules" / "gltf-validator";
+  if (!std::filesystem::is_directory(validator)) {
+    *why = "gltf-validator is not installed (scripts/install_deps.sh --with-colmap)";
+    return false;
+  }
+  *exit_code = RunCommand(
+      "node " + ShellQuote(SourceDir() / "scripts" / "validate_gltf.js") + " " + ShellQuote(file),
+      output);
+  return true;
+}
+
 std::filesystem::path VarsfmBinary() { return std::filesystem::path(VARSFM_BINARY_DIR) / "varsfm"; }
 
 TempDir::TempDir(const std::string& name) {

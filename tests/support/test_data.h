@@ -10,6 +10,15 @@ namespace varsfm::testing {
 // ../shared/data seen from the project root, or an empty path when it is absent.
 std::filesystem::path SharedDataDir();
 
+// The project's source tree (for its scripts/).
+std::filesystem::path SourceDir();
+
+// Runs scripts/validate_gltf.js (the Khronos glTF-Validator) on `file`. Returns false and sets
+// `why` when node or the validator is not installed (the caller skips); otherwise returns true
+// with the validator's exit code (0: no errors) and output.
+bool ValidateGltf(const std::filesystem::path& file, int* exit_code, std::string* output,
+                  std::string* why);
+
 // The command-line tool built beside the tests (build/varsfm).
 std::filesystem::path VarsfmBinary();
 

@@ -65,6 +65,15 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   for (const char* file :
        {"textured/model.obj", "textured/model.mtl", "textured/model_0.png", "model.glb"})
     EXPECT_TRUE(std::filesystem::is_regular_file(out / file)) << file;
+  {
+    int code = -1;
+    std::string output, why;
+    if (testing::ValidateGltf(out / "model.glb", &code, &output, &why)) {
+      EXPECT_EQ(code, 0) << output;
+    } else {
+      std::printf("glTF validation skipped: %s\n", why.c_str());
+    }
+  }
 
   ASSERT_EQ(RunCommand(fmt::format("{} render --model {} --camera view2.png --output {}",
                                    Q(VarsfmBinary()), Q(out), Q(out / "view2_render.png")),

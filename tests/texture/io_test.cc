@@ -170,3 +170,21 @@ TEST(ModelTexture, ModelWithoutRegisteredImagesIsAnError) {
 
 }  // namespace
 }  // namespace varsfm
+
+namespace varsfm {
+namespace {
+
+// What viewers and engines rely on, checked by the Khronos reference validator.
+TEST(Glb, KhronosValidatorReportsNoErrors) {
+  TempDir tmp("glb_validator");
+  const auto file = tmp.path() / "model.glb";
+  WriteGlb(file, SmallTexturedMesh());
+  int code = -1;
+  std::string output, why;
+  if (!testing::ValidateGltf(file, &code, &output, &why)) GTEST_SKIP() << why << "; skipping";
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find(": 0 errors"), std::string::npos) << output;
+}
+
+}  // namespace
+}  // namespace varsfm
