@@ -1,7 +1,10 @@
 #pragma once
-// Progress reporting: a redrawn bar when stderr is a terminal, otherwise plain log lines at
-// roughly every 10 %. Thread-safe Tick(), so parallel loops can report as they finish items.
+// Progress reporting: a redrawn bar with the rate and the estimated time left when stderr is a
+// terminal, otherwise plain log lines at roughly every 10 %. Nothing is shown when the log level
+// is above info (--quiet, --log-level warn). Thread-safe Tick(), so parallel loops can report
+// as they finish items.
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <mutex>
 #include <string>
@@ -22,13 +25,19 @@ class Progress {
   void Finish();
 
  private:
-  void Draw(size_t done, const std::string& status);
+  // `force`: draw even within the terminal's redraw interval.
+  void Draw(size_t done, const std::string& status, bool force = false);
+  // "12.3/s, 0:42 left" once a rate can be estimated, else "".
+  std::string RateAndEta(size_t done) const;
 
   std::string label_;
   size_t total_;
   std::atomic<size_t> done_{0};
   std::mutex mutex_;
   bool tty_;
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_draw_;
   bool finished_ = false;
   size_t last_logged_decile_ = 0;
   std::string status_;
