@@ -54,6 +54,27 @@ TEST(ListImages, MissingFolderOrFileIsAnError) {
   EXPECT_THROW(ListImages(dir.path() / "a.jpg"), Error);
 }
 
+// A link is listed under its own name; a second name for a photo of the set (a link to it, a
+// folder linked twice) is skipped, as are broken links, link loops and a folder linked into
+// itself, never an error.
+TEST(ListImages, LinksToPhotosOfTheSetLoopsAndBrokenLinksAreSkipped) {
+  testing::TempDir dir("list_images_links");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images / "sub");
+  fs::create_directories(dir.path() / "elsewhere");
+  for (const char* name : {"b.jpg", "sub/c.jpg"}) Touch(images / name);
+  Touch(dir.path() / "elsewhere" / "x.jpg");
+  fs::create_symlink("b.jpg", images / "a_link.jpg");                // same photo as b.jpg
+  fs::create_symlink("../elsewhere/x.jpg", images / "outside.jpg");  // a photo of its own
+  fs::create_symlink("absent.jpg", images / "broken.jpg");
+  fs::create_symlink("loop2.jpg", images / "loop1.jpg");
+  fs::create_symlink("loop1.jpg", images / "loop2.jpg");
+  fs::create_symlink(".", images / "self");        // a folder containing itself
+  fs::create_symlink("sub", images / "sub_link");  // a second name for sub/
+  const std::vector<std::string> expected = {"b.jpg", "outside.jpg", "sub/c.jpg"};
+  EXPECT_EQ(ListImages(images), expected);
+}
+
 TEST(ReadImage, ReadsEveryFormatInGreyAndColour) {
   testing::TempDir dir("read_formats");
   const cv::Mat original = RandomImage(64, 48);

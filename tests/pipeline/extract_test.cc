@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
@@ -148,6 +149,70 @@ TEST(ExtractCommand, UnreadableImagesAreSkippedWithAWarning) {
   }
   Database db(dir.path() / "ws.db");
   EXPECT_EQ(db.NumImages(), 2u);
+}
+
+// A textured grey image with features (blurred noise), different for each seed.
+void WriteTexturedImage(const fs::path& path, int seed) {
+  cv::Mat image(240, 320, CV_8UC1);
+  cv::RNG(seed).fill(image, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(image, image, cv::Size(), 2.0);
+  WriteImage(path, image);
+}
+
+// A link to a photo of the folder is that photo (skipped with a warning naming both); broken
+// links, link loops and a folder linked into itself are skipped with a warning, never an error.
+TEST(ExtractCommand, LinksAreOnePhotoAndBrokenLinksAndLoopsAreSkipped) {
+  TempDir dir("extract_links");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images);
+  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  fs::create_symlink("1.png", images / "link.png");
+  fs::create_symlink("absent.png", images / "broken.png");
+  fs::create_symlink("loop2.png", images / "loop1.png");
+  fs::create_symlink("loop1.png", images / "loop2.png");
+  fs::create_symlink(".", images / "self");
+  const fs::path workspace = dir.path() / "ws.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  EXPECT_NE(out.find("skipping link.png: a link to 1.png"), std::string::npos) << out;
+  for (const char* name : {"broken.png", "loop1.png", "loop2.png", "self"}) {
+    EXPECT_NE(out.find(std::string("skipping ") + name), std::string::npos) << name << "\n" << out;
+  }
+  Database db(workspace);
+  std::vector<std::string> names;
+  for (const DbImage& image : db.ReadAllImages()) names.push_back(image.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"0.png", "1.png", "2.png"}));
+}
+
+// An extraction that fails half-way removes the images it added, so the workspace holds what
+// it held before (a failure injected by a trigger on the third image's row).
+TEST(ExtractCommand, AFailedRunLeavesTheWorkspaceAsItWas) {
+  TempDir dir("extract_failure");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images);
+  WriteTexturedImage(images / "a.png", 1);
+  const fs::path workspace = dir.path() / "ws.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  WriteTexturedImage(images / "b.png", 2);
+  WriteTexturedImage(images / "c.png", 3);
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(workspace.c_str(), &db), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db,
+                           "CREATE TRIGGER fail BEFORE INSERT ON images WHEN NEW.name = 'c.png' "
+                           "BEGIN SELECT RAISE(ABORT, 'injected failure'); END",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  EXPECT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images) + " --threads 1"), &out), 1)
+      << out;
+  EXPECT_NE(out.find("injected failure"), std::string::npos) << out;
+  Database db(workspace);
+  ASSERT_EQ(db.NumImages(), 1u) << out;
+  EXPECT_EQ(db.ReadAllImages()[0].name, "a.png");
+  EXPECT_EQ(db.NumCameras(), 1u);
 }
 
 // A video panning across a textured scene, with blurred frames at `blurred`.

@@ -3,13 +3,56 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <map>
 #include <system_error>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
 
 namespace varsfm {
+namespace {
 
-bool HasImageExtension(const std::filesystem::path& path) {
+namespace fs = std::filesystem;
+
+// True when `ancestor` is `path` or one of its parent folders (both canonical).
+bool IsWithin(const fs::path& path, const fs::path& ancestor) {
+  const auto [end, unused] =
+      std::mismatch(ancestor.begin(), ancestor.end(), path.begin(), path.end());
+  return end == ancestor.end();
+}
+
+// An image file found while listing: its name in the folder and the file it is (links resolved).
+struct FoundImage {
+  std::string name;
+  fs::path file;
+};
+
+// Keeps one name per file: several names for one file (a link to a photo of the set, a folder
+// linked twice) are one photo, and extracting it twice would give two images of one view with
+// identical features. The name that is not a link wins, else the first by name.
+std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs::path& root) {
+  std::sort(found.begin(), found.end(),
+            [](const FoundImage& a, const FoundImage& b) { return a.name < b.name; });
+  std::map<fs::path, const FoundImage*> kept;
+  for (const FoundImage& image : found) {
+    const auto [it, inserted] = kept.emplace(image.file, &image);
+    if (!inserted && root / image.name == image.file) it->second = &image;
+  }
+  std::vector<std::string> names;
+  for (const FoundImage& image : found) {
+    const FoundImage* chosen = kept.at(image.file);
+    if (chosen == &image) {
+      names.push_back(image.name);
+    } else {
+      warn("skipping {}: a link to {}, the same photo", image.name, chosen->name);
+    }
+  }
+  return names;
+}
+
+}  // namespace
+
+bool HasImageExtension(const fs::path& path) {
   static constexpr std::array<const char*, 7> kExtensions = {".jpg",  ".jpeg", ".png", ".tif",
                                                              ".tiff", ".bmp",  ".jpe"};
   std::string ext = path.extension().string();
@@ -18,23 +61,50 @@ bool HasImageExtension(const std::filesystem::path& path) {
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
 
-std::vector<std::string> ListImages(const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
+std::vector<std::string> ListImages(const fs::path& dir) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) Fail("image folder {} does not exist", dir.string());
   if (!fs::is_directory(dir, ec)) Fail("{} is not a folder", dir.string());
+  const fs::path root = fs::canonical(dir, ec);
+  if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
 
-  std::vector<std::string> names;
+  std::vector<FoundImage> found;
   fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink, ec);
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
-    if (!it->is_regular_file(ec) || !HasImageExtension(it->path())) continue;
-    // generic_string() gives '/' separators on every platform, as COLMAP stores names.
-    names.push_back(fs::relative(it->path(), dir, ec).generic_string());
+    // Names as found, links not resolved (fs::relative would resolve them, turning a link into
+    // its target's name); generic_string() gives '/' separators, as COLMAP stores names.
+    const std::string name = it->path().lexically_relative(dir).generic_string();
+    std::error_code status_ec;
+    if (it->is_directory(status_ec)) {
+      // A linked folder that contains the link (e.g. `sub -> .`) would be listed again and
+      // again down to the system's depth limit.
+      const fs::path folder = fs::canonical(it->path(), status_ec);
+      std::error_code parent_ec;
+      const fs::path parent = fs::canonical(it->path().parent_path(), parent_ec);
+      if (!status_ec && !parent_ec && IsWithin(parent, folder)) {
+        warn("skipping {}/: a link to folder {} that contains it (a loop)", name, folder.string());
+        it.disable_recursion_pending();
+      }
+      continue;
+    }
+    if (!HasImageExtension(it->path())) continue;
+    const bool is_file = it->is_regular_file(status_ec);
+    if (status_ec) {
+      const bool loop = status_ec == std::errc::too_many_symbolic_link_levels;
+      warn("skipping {}: {}", name, loop ? "a link loop" : "a link to a missing file");
+      continue;
+    }
+    if (!is_file) continue;
+    fs::path file = fs::canonical(it->path(), status_ec);
+    if (status_ec) {
+      warn("skipping {}: {}", name, status_ec.message());
+      continue;
+    }
+    found.push_back({name, std::move(file)});
   }
-  std::sort(names.begin(), names.end());
-  return names;
+  return OneNamePerFile(std::move(found), root);
 }
 
 }  // namespace varsfm

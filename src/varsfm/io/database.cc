@@ -258,10 +258,12 @@ struct Database::Statements {
         read_all_cameras(db,
                          "SELECT camera_id, model, width, height, params, prior_focal_length "
                          "FROM cameras ORDER BY camera_id"),
+        delete_camera(db, "DELETE FROM cameras WHERE camera_id = ?"),
         write_image(db, "INSERT INTO images(name, camera_id) VALUES(?, ?)"),
         read_image(db, "SELECT image_id, name, camera_id FROM images WHERE image_id = ?"),
         read_image_with_name(db, "SELECT image_id, name, camera_id FROM images WHERE name = ?"),
         read_all_images(db, "SELECT image_id, name, camera_id FROM images ORDER BY image_id"),
+        delete_image(db, "DELETE FROM images WHERE image_id = ?"),
         // Writing features or a pair again replaces the row (re-extraction, re-verification).
         write_keypoints(
             db, "INSERT OR REPLACE INTO keypoints(image_id, rows, cols, data) VALUES(?, ?, ?, ?)"),
@@ -272,10 +274,14 @@ struct Database::Statements {
         exists_descriptors(db, "SELECT 1 FROM descriptors WHERE image_id = ?"),
         read_keypoints(db, "SELECT rows, cols, data FROM keypoints WHERE image_id = ?"),
         read_descriptors(db, "SELECT rows, cols, data FROM descriptors WHERE image_id = ?"),
+        delete_keypoints(db, "DELETE FROM keypoints WHERE image_id = ?"),
+        delete_descriptors(db, "DELETE FROM descriptors WHERE image_id = ?"),
         write_matches(
             db, "INSERT OR REPLACE INTO matches(pair_id, rows, cols, data) VALUES(?, ?, ?, ?)"),
         exists_matches(db, "SELECT 1 FROM matches WHERE pair_id = ?"),
         read_matches(db, "SELECT rows, cols, data FROM matches WHERE pair_id = ?"),
+        delete_matches(db, "DELETE FROM matches WHERE pair_id = ?"),
+        delete_two_view_geometry(db, "DELETE FROM two_view_geometries WHERE pair_id = ?"),
         write_two_view_geometry(db,
                                 "INSERT OR REPLACE INTO two_view_geometries(pair_id, rows, cols, "
                                 "data, config, F, E, H, qvec, tvec) "
@@ -293,11 +299,11 @@ struct Database::Statements {
         // As COLMAP's NumVerifiedImagePairs: a pair that failed verification has no inliers.
         count_verified_pairs(db, "SELECT COUNT(*) FROM two_view_geometries WHERE rows > 0") {}
 
-  Statement write_camera, update_camera, read_camera, read_all_cameras;
-  Statement write_image, read_image, read_image_with_name, read_all_images;
+  Statement write_camera, update_camera, read_camera, read_all_cameras, delete_camera;
+  Statement write_image, read_image, read_image_with_name, read_all_images, delete_image;
   Statement write_keypoints, write_descriptors, exists_keypoints, exists_descriptors;
-  Statement read_keypoints, read_descriptors;
-  Statement write_matches, exists_matches, read_matches;
+  Statement read_keypoints, read_descriptors, delete_keypoints, delete_descriptors;
+  Statement write_matches, exists_matches, read_matches, delete_matches, delete_two_view_geometry;
   Statement write_two_view_geometry, exists_two_view_geometry, read_two_view_geometry;
   Statement read_all_two_view_geometries;
   Statement count_cameras, count_images, count_matched_pairs, count_verified_pairs;
@@ -462,6 +468,10 @@ std::vector<DbCamera> Database::ReadAllCameras() const {
   return cameras;
 }
 
+void Database::DeleteCamera(camera_t camera_id) {
+  Query(statements_->delete_camera, "cannot delete a camera").Bind(camera_id).Step();
+}
+
 // ---- Images ----
 
 image_t Database::WriteImage(const DbImage& image) {
@@ -487,6 +497,15 @@ std::vector<DbImage> Database::ReadAllImages() const {
   std::vector<DbImage> images;
   while (query.Step()) images.push_back(ImageFromRow(query));
   return images;
+}
+
+void Database::DeleteImage(image_t image_id) {
+  // The features explicitly, not through the schema's ON DELETE CASCADE: a database written by
+  // another program may hold features whose rows SQLite would not cascade to when that program
+  // left foreign keys off (SQLite's default).
+  Query(statements_->delete_keypoints, "cannot delete keypoints").Bind(image_id).Step();
+  Query(statements_->delete_descriptors, "cannot delete descriptors").Bind(image_id).Step();
+  Query(statements_->delete_image, "cannot delete an image").Bind(image_id).Step();
 }
 
 // ---- Features ----
@@ -579,6 +598,14 @@ FeatureMatches Database::ReadMatches(image_t image_id1, image_t image_id2) const
   }
   FeatureMatches matches = MatchesFromRow(query, 0);
   return SwapImagePair(image_id1, image_id2) ? SwapMatches(std::move(matches)) : matches;
+}
+
+void Database::DeletePair(image_t image_id1, image_t image_id2) {
+  const auto pair_id = static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2));
+  Query(statements_->delete_matches, "cannot delete matches").Bind(pair_id).Step();
+  Query(statements_->delete_two_view_geometry, "cannot delete a two-view geometry")
+      .Bind(pair_id)
+      .Step();
 }
 
 // ---- Two-view geometries ----

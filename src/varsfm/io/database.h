@@ -73,12 +73,15 @@ class Database {
   void UpdateCamera(const DbCamera& camera);
   std::optional<DbCamera> ReadCamera(camera_t camera_id) const;
   std::vector<DbCamera> ReadAllCameras() const;
+  void DeleteCamera(camera_t camera_id);  // the caller deletes its images first
 
   // Images.
   image_t WriteImage(const DbImage& image);  // ignores image.image_id, returns the new id
   std::optional<DbImage> ReadImage(image_t image_id) const;
   std::optional<DbImage> ReadImageWithName(const std::string& name) const;
   std::vector<DbImage> ReadAllImages() const;  // sorted by image_id
+  // Deletes the image with its keypoints and descriptors (not its camera, nor its pairs).
+  void DeleteImage(image_t image_id);
 
   // Features.
   void WriteKeypoints(image_t image_id, const FeatureKeypoints& keypoints);
@@ -93,6 +96,8 @@ class Database {
   void WriteMatches(image_t image_id1, image_t image_id2, const FeatureMatches& matches);
   bool ExistsMatches(image_t image_id1, image_t image_id2) const;
   FeatureMatches ReadMatches(image_t image_id1, image_t image_id2) const;
+  // Deletes the pair's matches and two-view geometry (no-op for a pair without them).
+  void DeletePair(image_t image_id1, image_t image_id2);
 
   // Verified two-view geometries (inlier matches, config, F, E, H, relative pose). As for
   // matches, F/H/pose are inverted/transposed when read for the swapped order.

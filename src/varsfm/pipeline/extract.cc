@@ -93,43 +93,37 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
   return input;
 }
 
-}  // namespace
-
-fs::path VideoFramesDir(const fs::path& workspace) {
-  return workspace.parent_path() / (workspace.stem().string() + "_frames");
+// Removes `images` and their cameras, in one transaction (best effort: this runs while an error
+// is on its way out, and reports its own failure only in the log).
+void RemoveImages(Database& db, const std::vector<DbImage>& images) {
+  if (images.empty()) return;
+  try {
+    Database::Transaction transaction(db);
+    for (const DbImage& image : images) {
+      db.DeleteImage(image.image_id);
+      db.DeleteCamera(image.camera_id);
+    }
+    transaction.Commit();
+    warn("removed the {} images this run had added", images.size());
+  } catch (const Error& e) {
+    error("cannot remove the images this run added: {}", e.what());
+  }
 }
 
-ExtractSummary RunExtraction(const ExtractOptions& options) {
-  Timer timer;
-  if (options.workspace.empty()) Fail("no workspace given");
-  ExtractSummary summary;
-  const InputImages input = ListInput(options, summary);
-  summary.image_dir = input.dir;
-  summary.num_images = input.names.size();
-  const size_t n = input.names.size();
-
-  // Find one usable image before touching the workspace, so that a folder of unreadable files
-  // fails without creating or modifying it. The decoded image is reused below.
-  std::vector<bool> unusable(n, false);
-  std::optional<Image> first_image;
-  size_t first_index = n;
-  for (size_t i = 0; i < n && !first_image; ++i) {
-    first_image = LoadUsableImage(input.dir / input.names[i], options.min_image_size);
-    if (first_image) {
-      first_index = i;
-    } else {
-      unusable[i] = true;
-      ++summary.num_unusable;
-    }
-  }
-  if (!first_image) Fail("no readable image in {}", input.dir.string());
-
+void RemoveWorkspace(const fs::path& workspace) {
   std::error_code ec;
-  if (!options.workspace.parent_path().empty()) {
-    fs::create_directories(options.workspace.parent_path(), ec);
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
+    fs::remove(workspace.string() + suffix, ec);
   }
-  Database db(options.workspace);
+}
 
+// Extracts the features of the input's usable images into `db`, skipping those it holds
+// already. If it fails, the images it added are removed again.
+void WriteFeatures(Database& db, const ExtractOptions& options, const InputImages& input,
+                   size_t first_index, std::optional<Image> first_image,
+                   const std::vector<bool>& unusable, ExtractSummary& summary) {
+  const size_t n = input.names.size();
+  std::vector<DbImage> added;  // image and camera ids written by this run
   // Images already extracted are skipped; an image row without keypoints (e.g. imported from
   // elsewhere) gets its features added under its existing id.
   std::unordered_map<std::string, image_t> without_features;
@@ -189,6 +183,8 @@ ExtractSummary RunExtraction(const ExtractOptions& options) {
       image.name = name;
       image.camera_id = db.WriteCamera(item.camera);
       image_id = db.WriteImage(image);
+      image.image_id = image_id;
+      added.push_back(image);
     }
     db.WriteKeypoints(image_id, item.features.keypoints);
     db.WriteDescriptors(image_id, item.features.descriptors);
@@ -202,27 +198,79 @@ ExtractSummary RunExtraction(const ExtractOptions& options) {
   // (deterministic ids), with a bounded number in flight to bound memory.
   const int threads = options.threads > 0 ? options.threads : tbb::task_arena::automatic;
   tbb::task_arena arena(threads);
-  arena.execute([&] {
-    const size_t tokens = 2 * static_cast<size_t>(arena.max_concurrency());
-    size_t next = 0;
-    tbb::parallel_pipeline(
-        tokens, tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                               [&](tbb::flow_control& control) -> size_t {
-                                                 if (next == todo.size()) {
-                                                   control.stop();
-                                                   return 0;
-                                                 }
-                                                 return todo[next++];
-                                               }) &
-                    tbb::make_filter<size_t, std::shared_ptr<Extracted>>(
-                        tbb::filter_mode::parallel,
-                        [&](size_t index) { return std::make_shared<Extracted>(extract(index)); }) &
-                    tbb::make_filter<std::shared_ptr<Extracted>, void>(
-                        tbb::filter_mode::serial_in_order,
-                        [&](const std::shared_ptr<Extracted>& item) { write(*item); }));
-  });
+  try {
+    arena.execute([&] {
+      const size_t tokens = 2 * static_cast<size_t>(arena.max_concurrency());
+      size_t next = 0;
+      tbb::parallel_pipeline(
+          tokens,
+          tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
+                                         [&](tbb::flow_control& control) -> size_t {
+                                           if (next == todo.size()) {
+                                             control.stop();
+                                             return 0;
+                                           }
+                                           return todo[next++];
+                                         }) &
+              tbb::make_filter<size_t, std::shared_ptr<Extracted>>(
+                  tbb::filter_mode::parallel,
+                  [&](size_t index) { return std::make_shared<Extracted>(extract(index)); }) &
+              tbb::make_filter<std::shared_ptr<Extracted>, void>(
+                  tbb::filter_mode::serial_in_order,
+                  [&](const std::shared_ptr<Extracted>& item) { write(*item); }));
+    });
+  } catch (...) {
+    RemoveImages(db, added);
+    throw;
+  }
   progress.Finish();
+}
 
+}  // namespace
+
+fs::path VideoFramesDir(const fs::path& workspace) {
+  return workspace.parent_path() / (workspace.stem().string() + "_frames");
+}
+
+ExtractSummary RunExtraction(const ExtractOptions& options) {
+  Timer timer;
+  if (options.workspace.empty()) Fail("no workspace given");
+  ExtractSummary summary;
+  const InputImages input = ListInput(options, summary);
+  summary.image_dir = input.dir;
+  summary.num_images = input.names.size();
+  const size_t n = input.names.size();
+
+  // Find one usable image before touching the workspace, so that a folder of unreadable files
+  // fails without creating or modifying it. The decoded image is reused below.
+  std::vector<bool> unusable(n, false);
+  std::optional<Image> first_image;
+  size_t first_index = n;
+  for (size_t i = 0; i < n && !first_image; ++i) {
+    first_image = LoadUsableImage(input.dir / input.names[i], options.min_image_size);
+    if (first_image) {
+      first_index = i;
+    } else {
+      unusable[i] = true;
+      ++summary.num_unusable;
+    }
+  }
+  if (!first_image) Fail("no readable image in {}", input.dir.string());
+
+  std::error_code ec;
+  if (!options.workspace.parent_path().empty()) {
+    fs::create_directories(options.workspace.parent_path(), ec);
+  }
+  const bool created = !fs::exists(options.workspace, ec);
+  try {
+    Database db(options.workspace);
+    WriteFeatures(db, options, input, first_index, std::move(first_image), unusable, summary);
+  } catch (...) {
+    // A failed run leaves no workspace it made (the images it added to an existing one are
+    // removed by WriteFeatures): a half-filled one would be mapped as if it were complete.
+    if (created) RemoveWorkspace(options.workspace);
+    throw;
+  }
   summary.seconds = timer.Seconds();
   info(
       "extracted {} images ({} features, {:.0f} per image) in {:.1f} s; {} skipped as "
