@@ -1,12 +1,15 @@
 // End to end through the command-line tool: `varsfm extract` then `varsfm match` on a real
 // photo sequence, checked in the workspace database.
 #include <algorithm>
+#include <random>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/test_data.h"
 #include "varsfm/io/database.h"
+#include "varsfm/pipeline/match.h"
 
 namespace varsfm {
 namespace {
@@ -65,6 +68,60 @@ TEST(MatchCommand, KermitAdjacentPairsAreVerified) {
   // A second run finds every pair verified and changes nothing.
   ASSERT_EQ(RunCommand(match, &out), 0) << out;
   EXPECT_NE(out.find("55 already verified"), std::string::npos) << out;
+}
+
+// A workspace of `num_images` images with random features (their pairs do not verify, which is
+// all the tests of the bookkeeping below need).
+void WriteRandomFeatures(const std::filesystem::path& workspace, int num_images) {
+  Database db(workspace);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coordinate(0, 400);
+  std::uniform_int_distribution<int> value(0, 60);
+  for (int i = 0; i < num_images; ++i) {
+    FeatureKeypoints keypoints;
+    FeatureDescriptors descriptors(100, 128);
+    for (int k = 0; k < 100; ++k) {
+      keypoints.emplace_back(coordinate(rng), coordinate(rng));
+      for (int c = 0; c < 128; ++c) descriptors(k, c) = static_cast<uint8_t>(value(rng));
+    }
+    const camera_t camera = db.WriteCamera({0, 2, 400, 400, {480, 200, 200, 0}, false});
+    const image_t image = db.WriteImage({0, fmt::format("{}.png", i), camera});
+    db.WriteKeypoints(image, keypoints);
+    db.WriteDescriptors(image, descriptors);
+  }
+}
+
+// Verified pairs are committed by time as well as by count: a run killed (here: an error from
+// the clock) while writing the 21st of 28 pairs keeps the 18 committed by then, and the next
+// run resumes from there.
+TEST(MatchPipeline, AKilledRunKeepsWhatItCommittedByTime) {
+  TempDir dir("match_commit_by_time");
+  const auto workspace = dir.path() / "ws.db";
+  WriteRandomFeatures(workspace, 8);  // 28 pairs
+  MatchOptions options;
+  options.workspace = workspace;
+  options.num_threads = 2;
+  options.commit_interval = 3.0;
+  // Each reading of the clock advances it by one second: one when matching starts, one per pair
+  // written; the 22nd fails like a kill.
+  int readings = 0;
+  options.clock = [&readings] {
+    if (++readings == 22) throw std::runtime_error("killed");
+    return static_cast<double>(readings);
+  };
+  EXPECT_THROW(RunMatching(options), std::runtime_error);
+  size_t kept = 0;
+  {
+    Database db(workspace);
+    kept = db.ReadAllTwoViewGeometries().size();
+    EXPECT_EQ(db.NumMatchedPairs(), kept);  // each pair whole
+  }
+  EXPECT_EQ(kept, 18u);  // commits every 3 s of the clock: after pairs 3, 6, ..., 18
+
+  options.clock = nullptr;
+  const MatchSummary resumed = RunMatching(options);
+  EXPECT_EQ(resumed.num_skipped, kept);
+  EXPECT_EQ(Database(workspace).ReadAllTwoViewGeometries().size(), 28u);
 }
 
 TEST(MatchCommand, BadWorkspacesFailWithOneLine) {

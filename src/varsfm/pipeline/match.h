@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "varsfm/matching/descriptor_matcher.h"
@@ -21,6 +22,12 @@ struct MatchOptions {
   VerificationOptions verification;  // its seed is replaced by one derived per pair
   uint64_t seed = kDefaultSeed;
   int num_threads = 0;  // 0: all cores
+  // Verified pairs are committed at least this often (seconds), so a kill loses at most this
+  // much work.
+  double commit_interval = 1.0;
+  // Seconds on a monotonic clock, for the commits; empty: std::chrono::steady_clock. Tests
+  // give their own to commit (and fail) at chosen points without waiting.
+  std::function<double()> clock;
 };
 
 struct MatchSummary {
@@ -33,7 +40,8 @@ struct MatchSummary {
 
 // Throws varsfm::Error (workspace untouched) if the workspace is missing or has fewer than two
 // images with features. Pairs already holding a two-view geometry are skipped, so an
-// interrupted run resumes; each pair's matches and geometry are written in one transaction.
+// interrupted run resumes; a pair's matches and geometry are committed together, pairs as they
+// are verified, at least every options.commit_interval seconds.
 MatchSummary RunMatching(const MatchOptions& options);
 
 }  // namespace varsfm
