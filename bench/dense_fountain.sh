@@ -3,7 +3,8 @@
 # issue 6 asks for: seconds per densify phase, points, how close they lie to the sparse model,
 # mesh seconds and manifoldness.
 #   bench/dense_fountain.sh [SPARSE_DIR] [IMAGE_DIR] [VARSFM_BINARY] [WORK_DIR]
-# SPARSE_DIR defaults to WORK_DIR/sparse, made by `varsfm run IMAGE_DIR WORK_DIR --until sparse`
+# SPARSE_DIR (a model folder, or a folder of models 0/, 1/, ...: model 0) defaults to
+# WORK_DIR/sparse/0, made by `varsfm run IMAGE_DIR WORK_DIR --until sparse`
 # when missing (IMAGE_DIR: ../shared/data/strecha/fountain-P11/images; binary: build/varsfm;
 # WORK_DIR: a temporary folder, removed at the end unless given).
 set -euo pipefail
@@ -19,12 +20,12 @@ else
   work="$(mktemp -d)"
   trap 'rm -rf "$work"' EXIT
 fi
-sparse="${1:-$work/sparse}"
+sparse="${1:-$work/sparse/0}"
 if [[ ! -d "$sparse" ]]; then
   echo "no sparse model: running varsfm run (sparse only) into $work/run"
   "$varsfm" run "$images" "$work/run" --until sparse >"$work/run.log" 2>&1 ||
     { cat "$work/run.log" >&2; exit 1; }
-  sparse="$work/run/sparse"
+  sparse="$work/run/sparse/0"
 fi
 
 echo "sparse: $sparse, images: $images, cores: $(nproc), load: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -289,7 +289,7 @@ def varsfm_map(varsfm, db, out, images_dir, work, options=(), tag="map", timeout
     wall, cpu = timed([varsfm, "map", "--workspace", db, "--output", out, "--images", images_dir,
                        *options], Path(work) / f"varsfm_{tag}.log", timeout=timeout)
     summary = json.loads((Path(out) / "summary.json").read_text())
-    stats = model_stats(Path(out) / "sparse")
+    stats = model_stats(Path(out) / "sparse" / "0")
     return {"stats": stats, "wall_map": wall, "cpu_map": cpu,
             "summary_rms_px": summary.get("rms_reprojection_error_px"),
             "summary_seconds": summary.get("seconds", {}),

@@ -221,13 +221,15 @@ int main(int argc, char** argv) {
   {
     CLI::App* cmd = app.add_subcommand(
         "evaluate", "accuracy against ground truth (--gt) and/or render vs. photo (--render)");
-    cmd->add_option("model", evaluate.model_dir, "COLMAP model folder (text or binary)")
+    cmd->add_option(
+           "model", evaluate.model_dir,
+           "COLMAP model folder (text or binary), or its parent holding 0/, 1/, ... (model 0)")
         ->required();
     cmd->add_option("--gt", evaluate.gt_dir, "folder of Strecha NAME.camera files");
     cmd->add_flag("--render", evaluate.render,
                   "render the textured model from every registered camera: PSNR and coverage");
     cmd->add_option("--textured", evaluate.textured,
-                    "--render: model.obj or its folder (default MODEL/../textured)");
+                    "--render: model.obj or its folder (default OUT/textured for OUT/sparse[/0])");
     cmd->add_option("--images", evaluate.image_dir, "--render: the photos");
     cmd->add_option("--render-dir", evaluate.render_dir,
                     "--render: also write the renderings here");
@@ -262,7 +264,9 @@ int main(int argc, char** argv) {
   {
     CLI::App* cmd = app.add_subcommand("densify", "quasi-dense point cloud by match propagation");
     cmd->add_option("--workspace", densify.workspace, "workspace database (optional)");
-    cmd->add_option("--sparse", densify.sparse, "sparse model folder (COLMAP)")->required();
+    cmd->add_option("--sparse", densify.sparse,
+                    "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
+        ->required();
     cmd->add_option("--images", densify.image_dir, "image folder")->required();
     cmd->add_option("--output", densify.output, "output folder (dense.ply)")->required();
     cmd->add_option("--max-image-size", densify.dense.max_image_size, "matching image size")
@@ -306,7 +310,9 @@ int main(int argc, char** argv) {
   {
     CLI::App* cmd = app.add_subcommand("texture", "texture a mesh from the registered photos");
     cmd->add_option("--mesh", texture.mesh, "mesh PLY (mesh.ply)")->required();
-    cmd->add_option("--sparse", texture.sparse, "sparse model folder (COLMAP)")->required();
+    cmd->add_option("--sparse", texture.sparse,
+                    "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
+        ->required();
     cmd->add_option("--images", texture.image_dir, "image folder")->required();
     cmd->add_option("--output", texture.output, "output folder (textured/, model.glb)")->required();
     cmd->add_option("--smoothness", texture.texture.selection.smoothness,
@@ -338,7 +344,7 @@ int main(int argc, char** argv) {
     cmd->add_option("--model", render.model, "output folder of texture (OUT)")->required();
     cmd->add_option("--camera", render.camera, "image name in the sparse model")->required();
     cmd->add_option("--output", render.output, "image file to write (PNG)")->required();
-    cmd->add_option("--sparse", render.sparse, "sparse model (default OUT/sparse)");
+    cmd->add_option("--sparse", render.sparse, "COLMAP model folder (default OUT/sparse: model 0)");
     cmd->add_option("--textured", render.textured,
                     "model.obj or its folder (default OUT/textured)");
     cmd->add_flag("--mask", render.write_mask, "also write NAME_mask.png (255: mesh covers)");

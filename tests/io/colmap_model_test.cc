@@ -168,6 +168,23 @@ TEST(ColmapModel, FailedWriteLeavesNoModel) {
   ExpectSameModel(rec, ReadColmapModel(tmp.path() / "model"));
 }
 
+// COLMAP's mapper writes its models as sparse/0, sparse/1, ...: a reader given sparse/ reads
+// model 0; a folder that holds a model is read itself.
+TEST(ColmapModel, ParentOfNumberedModelsReadsModelZero) {
+  testing::TempDir tmp("colmap_numbered");
+  const Reconstruction rec = TestModel();
+  Reconstruction other = TestModel();
+  other.DeRegisterImage(4);
+  WriteColmapModel(rec, tmp.path() / "sparse" / "0", {.binary = true});
+  WriteColmapModel(other, tmp.path() / "sparse" / "1", {.binary = false});
+  EXPECT_EQ(ResolveColmapModelFolder(tmp.path() / "sparse"), tmp.path() / "sparse" / "0");
+  ExpectSameModel(rec, ReadColmapModel(tmp.path() / "sparse"));
+  ExpectSameModel(other, ReadColmapModel(tmp.path() / "sparse" / "1"));
+  WriteColmapModel(other, tmp.path() / "sparse", {.binary = true});
+  EXPECT_EQ(ResolveColmapModelFolder(tmp.path() / "sparse"), tmp.path() / "sparse");
+  ExpectSameModel(other, ReadColmapModel(tmp.path() / "sparse"));
+}
+
 TEST(ColmapModel, BadInputThrowsOneLineNamingTheFile) {
   testing::TempDir tmp("colmap_bad");
   EXPECT_THROW(ReadColmapModel(tmp.path() / "absent"), Error);

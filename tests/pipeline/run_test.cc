@@ -99,9 +99,9 @@ TEST(DemoCommand, SyntheticZoomSceneIsAccurateAndRepeatable) {
     return std::string(std::istreambuf_iterator<char>(in), {});
   };
   for (const char* file : {"cameras.bin", "images.bin", "points3D.bin"}) {
-    const std::string a = read(tmp.path() / "map1" / "sparse" / file);
+    const std::string a = read(tmp.path() / "map1" / "sparse" / "0" / file);
     EXPECT_FALSE(a.empty()) << file;
-    EXPECT_TRUE(a == read(tmp.path() / "map2" / "sparse" / file)) << file << " differs";
+    EXPECT_TRUE(a == read(tmp.path() / "map2" / "sparse" / "0" / file)) << file << " differs";
   }
 }
 

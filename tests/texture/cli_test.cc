@@ -24,8 +24,10 @@ using testing::VarsfmBinary;
 // Shell-quoted path, for the command lines below.
 std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
 
-// OUT/sparse, OUT/images and OUT/mesh.ply for the rendered synthetic scene.
-void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered) {
+// OUT/`model`, OUT/images and OUT/mesh.ply for the rendered synthetic scene: the model in
+// `map`'s layout (sparse/0) or in a single model folder (sparse), as other tools write it.
+void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered,
+                          const std::filesystem::path& model = "sparse") {
   RenderedSceneOptions o;
   o.num_images = 4;
   o.width = 320;
@@ -47,14 +49,16 @@ void WriteSyntheticInputs(const std::filesystem::path& out, int num_registered) 
     rec.AddImage(image);
     WriteImage(out / "images" / image.name, scene.images[i]);
   }
-  WriteColmapModel(rec, out / "sparse");
+  WriteColmapModel(rec, out / model);
   WriteMeshPly(out / "mesh.ply", testing::SyntheticSceneMesh());
 }
 
 TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   TempDir tmp("texture_cli");
   const auto out = tmp.path();
-  WriteSyntheticInputs(out, 4);
+  // `map`'s layout: --sparse takes the parent of the numbered models (model 0), render finds
+  // OUT/sparse/0 from OUT, evaluate --render finds OUT/textured from OUT/sparse/0.
+  WriteSyntheticInputs(out, 4, std::filesystem::path("sparse") / "0");
   std::string log;
   ASSERT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}",
                                    Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
@@ -87,7 +91,7 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   // No --gt: the rendering report alone.
   ASSERT_EQ(
       RunCommand(fmt::format("{} evaluate {} --render --images {} --json {}", Q(VarsfmBinary()),
-                             Q(out / "sparse"), Q(out / "images"), Q(out / "render.json")),
+                             Q(out / "sparse" / "0"), Q(out / "images"), Q(out / "render.json")),
                  &log),
       0)
       << log;

@@ -492,8 +492,17 @@ void WriteColmapModel(const Reconstruction& rec, const fs::path& dir,
                        [&](const fs::path& tmp) { WriteAll(rec, tmp, options); });
 }
 
-Reconstruction ReadColmapModel(const fs::path& dir) {
-  if (!fs::is_directory(dir)) Fail("{}: model folder does not exist", dir.string());
+fs::path ResolveColmapModelFolder(const fs::path& path) {
+  const auto holds_model = [](const fs::path& dir) {
+    return fs::is_regular_file(dir / "cameras.bin") || fs::is_regular_file(dir / "cameras.txt");
+  };
+  if (!holds_model(path) && holds_model(path / "0")) return path / "0";
+  return path;
+}
+
+Reconstruction ReadColmapModel(const fs::path& path) {
+  if (!fs::is_directory(path)) Fail("{}: model folder does not exist", path.string());
+  const fs::path dir = ResolveColmapModelFolder(path);
   bool binary = true;
   for (const auto& name : ColmapModelFileNames(true)) binary &= fs::is_regular_file(dir / name);
   const auto names = ColmapModelFileNames(binary);

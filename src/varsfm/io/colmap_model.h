@@ -28,10 +28,17 @@ struct ColmapWriteOptions {
 void WriteColmapModel(const Reconstruction& reconstruction, const std::filesystem::path& dir,
                       const ColmapWriteOptions& options = {});
 
-// Reads a binary model when cameras.bin, images.bin and points3D.bin exist, otherwise a text
-// model. Every image read is registered. Point ids are renumbered 1, 2, ... in file order
-// (Reconstruction assigns them); tracks and 2D links are kept. Throws varsfm::Error naming the
-// file for a missing/truncated file, a bad line or a camera model varsfm cannot represent.
+// The model folder `path` names: `path` itself when it holds a model (cameras.bin or
+// cameras.txt), else `path`/0 when that does: COLMAP's mapper writes its models as sparse/0,
+// sparse/1, ... (largest first, as varsfm's `map`), and a tool given the parent means model 0.
+// Otherwise `path` (whose reading then fails naming it).
+std::filesystem::path ResolveColmapModelFolder(const std::filesystem::path& path);
+
+// Reads the model in ResolveColmapModelFolder(`dir`): binary when cameras.bin, images.bin and
+// points3D.bin exist, otherwise text. Every image read is registered. Point ids are renumbered 1,
+// 2, ... in file order (Reconstruction assigns them); tracks and 2D links are kept. Throws
+// varsfm::Error naming the file for a missing/truncated file, a bad line or a camera model varsfm
+// cannot represent.
 Reconstruction ReadColmapModel(const std::filesystem::path& dir);
 
 // The atomic write used for every exported model folder: `write` fills a temporary folder

@@ -13,7 +13,7 @@ struct DensifyCommandOptions {
   // Optional: when given it must exist; densify itself needs only the sparse model and photos
   // (the model's 3D points are the propagation seeds).
   std::filesystem::path workspace;
-  std::filesystem::path sparse;     // COLMAP model folder (text or binary)
+  std::filesystem::path sparse;     // COLMAP model folder, or its parent: model 0
   std::filesystem::path image_dir;  // the photos, by the model's image names
   std::filesystem::path output;     // OUT/dense.ply is written
   DensifyOptions dense;

@@ -1,5 +1,6 @@
 #include "varsfm/pipeline/evaluate.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -25,6 +26,18 @@ void WriteJson(const std::filesystem::path& path, const nlohmann::json& json) {
   std::filesystem::rename(tmp, path, ec);
   if (ec) Fail("{}: cannot write: {}", path.string(), ec.message());
   info("wrote {}", path.string());
+}
+
+// The folder holding a model's other outputs (textured/, ...): OUT for OUT/sparse/0, for its
+// parent OUT/sparse (ResolveColmapModelFolder) and for the single-model layout OUT/sparse.
+std::filesystem::path OutputFolderOf(const std::filesystem::path& model_dir) {
+  std::filesystem::path model =
+      std::filesystem::absolute(ResolveColmapModelFolder(model_dir)).lexically_normal();
+  if (model.filename().empty()) model = model.parent_path();  // a trailing slash
+  const std::string name = model.filename().string();
+  const bool numbered = !name.empty() && std::all_of(name.begin(), name.end(),
+                                                     [](char c) { return c >= '0' && c <= '9'; });
+  return numbered ? model.parent_path().parent_path() : model.parent_path();
 }
 
 }  // namespace
@@ -70,10 +83,8 @@ std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
     if (options.image_dir.empty()) Fail("evaluate --render: --images (the photos) is required");
     RenderEvaluationOptions render;
     render.sparse = options.model_dir;
-    render.textured =
-        options.textured.empty()
-            ? std::filesystem::absolute(options.model_dir).lexically_normal() / ".." / "textured"
-            : options.textured;
+    render.textured = options.textured.empty() ? OutputFolderOf(options.model_dir) / "textured"
+                                               : options.textured;
     render.image_dir = options.image_dir;
     render.render_dir = options.render_dir;
     const RenderEvaluationReport report = EvaluateRenders(render);

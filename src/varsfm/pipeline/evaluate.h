@@ -17,8 +17,8 @@ struct EvaluateCommandOptions {
   EvaluationOptions evaluation;
   // --render: photometric comparison of the textured model with the photos.
   bool render = false;
-  std::filesystem::path textured;    // OBJ or its folder; empty: MODEL/../textured
-  std::filesystem::path image_dir;   // the photos (required with render)
+  std::filesystem::path textured;   // OBJ or its folder; empty: OUT/textured (model OUT/sparse[/0])
+  std::filesystem::path image_dir;  // the photos (required with render)
   std::filesystem::path render_dir;  // optional: where to write the renderings
 };
 

@@ -142,6 +142,21 @@ void ColorPoints(const KeypointColors& colors, Reconstruction* rec) {
   }
 }
 
+// Removes from OUT/sparse what an earlier run left beside this run's `num_models` models: the
+// single-model layout's files in OUT/sparse itself (a reader given OUT/sparse would take them
+// for the model) and numbered models beyond this run's.
+void RemoveStaleModels(const std::filesystem::path& sparse, size_t num_models) {
+  namespace fs = std::filesystem;
+  for (const char* name : {"cameras", "images", "points3D"})
+    for (const char* extension : {".bin", ".txt"})
+      fs::remove(sparse / (name + std::string(extension)));
+  for (size_t k = num_models;; ++k) {
+    const fs::path stale = sparse / std::to_string(k);
+    if (!fs::is_directory(stale)) break;
+    fs::remove_all(stale);
+  }
+}
+
 }  // namespace
 
 nlohmann::json ReconstructionSummaryJson(const Reconstruction& rec) {
@@ -214,7 +229,8 @@ MapResult RunMapping(const MapOptions& options) {
 
   Reconstruction& rec = result.reconstruction;
   if (colors.valid()) ColorPoints(colors.get(), &rec);
-  const auto sparse = options.output / "sparse";
+  // COLMAP's mapper's layout, OUT/sparse/0, 1, ...: tools that read a COLMAP project find it.
+  const auto sparse = options.output / "sparse" / "0";
   // The four outputs are independent readers of the model: written side by side (bundler/ET's
   // take 31 ms one after the other, a tenth of its whole `map`). Each future's get() rethrows
   // its writer's error; the others still finish (a std::async future waits when destroyed).
@@ -232,6 +248,7 @@ MapResult RunMapping(const MapOptions& options) {
   WritePly(model, options.output / "sparse.ply");
   text.get();
   bundler.get();
+  RemoveStaleModels(options.output / "sparse", 1);
   result.seconds = total.Seconds();
 
   nlohmann::json summary = ReconstructionSummaryJson(rec);

@@ -1,6 +1,6 @@
 #pragma once
 // Stage 3 of the pipeline: the workspace's features and verified matches in, a sparse model out
-// (OUT/sparse/ as COLMAP text + binary, OUT/sparse.ply, OUT/bundle.out + list.txt,
+// (OUT/sparse/0/ as COLMAP text + binary, OUT/sparse.ply, OUT/bundle.out + list.txt,
 // OUT/summary.json).
 #include <filesystem>
 #include <string>

@@ -12,7 +12,7 @@ namespace varsfm {
 
 struct RenderCommandOptions {
   std::filesystem::path model;     // OUT of `texture` (OUT/textured/model.obj, OUT/sparse)
-  std::filesystem::path sparse;    // empty: OUT/sparse
+  std::filesystem::path sparse;    // empty: OUT/sparse (its model 0)
   std::filesystem::path textured;  // OBJ file or its folder; empty: OUT/textured/model.obj
   std::string camera;              // image name in the sparse model
   std::filesystem::path output;    // image file (PNG), black where the mesh does not reach
@@ -24,7 +24,7 @@ struct RenderCommandOptions {
 void RunRender(const RenderCommandOptions& options);
 
 struct RenderEvaluationOptions {
-  std::filesystem::path sparse;      // COLMAP model folder
+  std::filesystem::path sparse;      // COLMAP model folder (or its parent: model 0)
   std::filesystem::path textured;    // OBJ file or its folder
   std::filesystem::path image_dir;   // the photos
   std::filesystem::path render_dir;  // optional: renderings written here as NAME.png

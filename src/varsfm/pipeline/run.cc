@@ -65,7 +65,7 @@ RunResult RunAll(const RunOptions& options) {
   summary["matching_strategy"] = match.strategy;
   std::ofstream(summary_path) << summary.dump(2) << "\n";
 
-  info("run: wrote {}/sparse (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
+  info("run: wrote {}/sparse/0 (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
        options.output.string());
 
   // Dense cloud, surface and texture, each stage's time added to the summary as it ends.
@@ -75,7 +75,7 @@ RunResult RunAll(const RunOptions& options) {
   };
   if (runs("dense")) {
     DensifyCommandOptions densify;
-    densify.sparse = options.output / "sparse";
+    densify.sparse = options.output / "sparse" / "0";
     densify.image_dir = extracted.image_dir;
     densify.output = options.output;
     densify.dense = options.dense;
@@ -93,7 +93,7 @@ RunResult RunAll(const RunOptions& options) {
   if (runs("texture")) {
     TextureCommandOptions texture;
     texture.mesh = options.output / "mesh.ply";
-    texture.sparse = options.output / "sparse";
+    texture.sparse = options.output / "sparse" / "0";
     texture.image_dir = extracted.image_dir;
     texture.output = options.output;
     texture.texture = options.texture;
