@@ -212,6 +212,10 @@ int main(int argc, char** argv) {
     cmd->add_option("--until", run.until, "last stage: sparse | dense | mesh | texture")
         ->capture_default_str()
         ->check(CLI::IsMember({"sparse", "dense", "mesh", "texture"}));
+    cmd->add_option("--holdout", run.holdout,
+                    "keep every N-th registered image (by name) out of densify and texture, then "
+                    "score the model on those views (PSNR, SSIM, coverage); 0: none")
+        ->capture_default_str();
     AddMapperOptions(cmd, &run.map);
     cmd->callback([&run] { varsfm::RunAll(run); });
   }
@@ -234,6 +238,9 @@ int main(int argc, char** argv) {
     cmd->add_option("--render-dir", evaluate.render_dir,
                     "--render: also write the renderings here");
     cmd->add_option("--json", evaluate.json_path, "also write the report as JSON");
+    cmd->add_option("--holdout", evaluate.holdout,
+                    "--render: every N-th image by name was held out (run --holdout N): report "
+                    "those views apart");
     cmd->add_option("--inlier-threshold", evaluate.evaluation.alignment.inlier_threshold,
                     "robust alignment: centres farther than this (GT units) are outliers "
                     "(0: least squares over all)")
@@ -278,6 +285,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--min-zncc", densify.dense.propagation.min_zncc, "ZNCC threshold")
         ->capture_default_str()
         ->check(CLI::Range(-1.0, 1.0));
+    cmd->add_option("--holdout", densify.holdout,
+                    "leave every N-th registered image (by name) out (0: none)");
     cmd->add_option("--threads", densify.dense.num_threads, "threads (0: all cores)")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
@@ -330,6 +339,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--padding", texture.texture.padding, "photo pixels kept around each chart")
         ->capture_default_str()
         ->check(CLI::Range(0, 64));
+    cmd->add_option("--holdout", texture.holdout,
+                    "leave every N-th registered image (by name) out (0: none)");
     cmd->add_option("--threads", texture.texture.selection.num_threads, "threads (0: all cores)")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);

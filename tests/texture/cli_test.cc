@@ -138,3 +138,49 @@ TEST(TextureCommand, BadInputIsAOneLineError) {
 
 }  // namespace
 }  // namespace varsfm
+
+namespace varsfm {
+namespace {
+
+// The novel-view protocol: with --holdout 2, views 0 and 2 (by name) texture nothing and are
+// scored apart from the source views.
+TEST(TextureCommand, HoldoutKeepsViewsOutAndScoresThemApart) {
+  TempDir tmp("texture_holdout");
+  const auto out = tmp.path();
+  WriteSyntheticInputs(out, 4);
+  std::string log;
+  ASSERT_EQ(
+      RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {} --holdout 2",
+                             Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
+                             Q(out / "images"), Q(out)),
+                 &log),
+      0)
+      << log;
+  EXPECT_NE(log.find("2 held-out view(s) left out"), std::string::npos) << log;
+  ASSERT_EQ(RunCommand(fmt::format("{} evaluate {} --render --images {} --holdout 2 --json {}",
+                                   Q(VarsfmBinary()), Q(out / "sparse"), Q(out / "images"),
+                                   Q(out / "render.json")),
+                       &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("2 held-out views"), std::string::npos) << log;
+  const nlohmann::json report = nlohmann::json::parse(std::ifstream(out / "render.json"));
+  EXPECT_EQ(report["held_out"]["images"], 2);
+  EXPECT_EQ(report["source"]["images"], 2);
+  for (const nlohmann::json& row : report["images"]) {
+    const std::string name = row["name"];
+    EXPECT_EQ(row["held_out"].get<bool>(), name == "view0.png" || name == "view2.png") << name;
+  }
+  EXPECT_GT(report["held_out"]["mean_coverage"].get<double>(), 0.5) << report.dump();
+  EXPECT_GT(report["held_out"]["mean_ssim"].get<double>(), 0.5) << report.dump();
+  EXPECT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {} "
+                                   "--holdout 1",
+                                   Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
+                                   Q(out / "images"), Q(out / "o")),
+                       &log) != 0,
+            true);
+  EXPECT_NE(log.find("--holdout 1"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace varsfm

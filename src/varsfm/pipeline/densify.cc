@@ -7,6 +7,7 @@
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
@@ -51,7 +52,10 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
     Fail("sparse model folder {} does not exist", options.sparse.string());
   if (!std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
-  const Reconstruction rec = ReadColmapModel(options.sparse);
+  CheckHoldout(options.holdout);
+  Reconstruction rec = ReadColmapModel(options.sparse);
+  if (const size_t n = HoldOutImages(&rec, options.holdout))
+    info("densify: {} held-out view(s) left out", n);
   if (rec.NumRegisteredImages() < 2)
     Fail("sparse model {} has {} registered images; densify needs at least 2",
          options.sparse.string(), rec.NumRegisteredImages());

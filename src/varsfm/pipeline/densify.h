@@ -17,6 +17,7 @@ struct DensifyCommandOptions {
   std::filesystem::path image_dir;  // the photos, by the model's image names
   std::filesystem::path output;     // OUT/dense.ply is written
   DensifyOptions dense;
+  int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
 };
 
 struct DensifyCommandResult {

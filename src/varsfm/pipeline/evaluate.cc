@@ -87,6 +87,7 @@ std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
                                                : options.textured;
     render.image_dir = options.image_dir;
     render.render_dir = options.render_dir;
+    render.holdout = options.holdout;
     const RenderEvaluationReport report = EvaluateRenders(render);
     text += FormatRenderReport(report);
     if (options.gt_dir.empty()) {

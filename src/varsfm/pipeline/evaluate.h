@@ -20,6 +20,7 @@ struct EvaluateCommandOptions {
   std::filesystem::path textured;   // OBJ or its folder; empty: OUT/textured (model OUT/sparse[/0])
   std::filesystem::path image_dir;  // the photos (required with render)
   std::filesystem::path render_dir;  // optional: where to write the renderings
+  int holdout = 0;                   // the held-out views reported apart (pipeline/render.h)
 };
 
 // Throws varsfm::Error (one line) when a folder is missing or unreadable.

@@ -1,11 +1,13 @@
 #include "varsfm/pipeline/render.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/texture/model_texture.h"
 #include "varsfm/texture/obj_io.h"
 #include "varsfm/texture/render.h"
@@ -24,6 +26,34 @@ fs::path TexturedObjPath(const fs::path& file_or_dir) {
 }
 
 namespace {
+
+RenderEvaluationMeans Means(const std::vector<RenderEvaluationRow>& rows, bool held_out) {
+  RenderEvaluationMeans means;
+  size_t scored = 0;
+  for (const RenderEvaluationRow& row : rows) {
+    if (row.held_out != held_out) continue;
+    ++means.num_images;
+    means.coverage += row.coverage;
+    if (row.coverage > 0 && std::isfinite(row.psnr_db)) {
+      means.psnr_db += row.psnr_db;
+      means.ssim += row.ssim;
+      ++scored;
+    }
+  }
+  if (means.num_images) means.coverage /= means.num_images;
+  if (scored) {
+    means.psnr_db /= scored;
+    means.ssim /= scored;
+  }
+  return means;
+}
+
+nlohmann::json ToJson(const RenderEvaluationMeans& means) {
+  return {{"images", means.num_images},
+          {"mean_psnr_db", means.psnr_db},
+          {"mean_ssim", means.ssim},
+          {"mean_coverage", means.coverage}};
+}
 
 void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
@@ -67,12 +97,14 @@ RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
     Fail("{}: model has no registered images", options.sparse.string());
   RenderEvaluationReport report;
   size_t scored = 0;
+  const std::vector<image_t> held_out = HeldOutImageIds(rec, options.holdout);
   for (const image_t id : rec.RegisteredImageIds()) {
     const Image& image = rec.image(id);
     const cv::Mat photo = ReadModelPhoto(rec, id, options.image_dir);
     const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), image.cam_from_world);
     const PhotometricScore s = ComparePhotometric(r, photo);
-    report.images.push_back({image.name, s.psnr_db, s.coverage});
+    const bool is_held_out = std::find(held_out.begin(), held_out.end(), id) != held_out.end();
+    report.images.push_back({image.name, s.psnr_db, s.ssim, s.coverage, is_held_out});
     if (!options.render_dir.empty())
       WriteRenderedImage(options.render_dir / (fs::path(image.name).stem().string() + ".png"),
                          r.image);
@@ -84,17 +116,28 @@ RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
   }
   report.mean_coverage /= report.images.size();
   if (scored) report.mean_psnr_db /= scored;
+  report.held_out = Means(report.images, true);
+  report.source = Means(report.images, false);
   report.seconds = timer.Seconds();
   return report;
 }
 
 std::string FormatRenderReport(const RenderEvaluationReport& report) {
   std::string out = "Rendering of the textured model vs. photo (pixels the mesh covers)\n";
-  out += fmt::format("  {:<32} {:>9} {:>9}\n", "image", "PSNR dB", "covered");
+  out += fmt::format("  {:<32} {:>9} {:>7} {:>9}\n", "image", "PSNR dB", "SSIM", "covered");
   for (const RenderEvaluationRow& row : report.images)
-    out += fmt::format("  {:<32} {:>9.2f} {:>8.1f}%\n", row.name, row.psnr_db, 100 * row.coverage);
-  out += fmt::format("  {:<32} {:>9.2f} {:>8.1f}%\n", "mean", report.mean_psnr_db,
-                     100 * report.mean_coverage);
+    out += fmt::format("  {:<32} {:>9.2f} {:>7.3f} {:>8.1f}%{}\n", row.name, row.psnr_db, row.ssim,
+                       100 * row.coverage, row.held_out ? "  held out" : "");
+  const auto line = [&](const std::string& label, const RenderEvaluationMeans& m) {
+    out += fmt::format("  {:<32} {:>9.2f} {:>7.3f} {:>8.1f}%\n", label, m.psnr_db, m.ssim,
+                       100 * m.coverage);
+  };
+  if (report.held_out.num_images) {
+    line(fmt::format("mean, {} held-out views", report.held_out.num_images), report.held_out);
+    line(fmt::format("mean, {} source views", report.source.num_images), report.source);
+  } else {
+    line("mean", report.source);
+  }
   return out;
 }
 
@@ -102,6 +145,8 @@ nlohmann::json ToJson(const RenderEvaluationReport& report) {
   nlohmann::json j;
   j["mean_psnr_db"] = report.mean_psnr_db;
   j["mean_coverage"] = report.mean_coverage;
+  j["held_out"] = ToJson(report.held_out);
+  j["source"] = ToJson(report.source);
   j["seconds"] = report.seconds;
   j["images"] = nlohmann::json::array();
   for (const RenderEvaluationRow& row : report.images) {
@@ -109,7 +154,9 @@ nlohmann::json ToJson(const RenderEvaluationReport& report) {
     j["images"].push_back(
         {{"name", row.name},
          {"psnr_db", std::isfinite(row.psnr_db) ? nlohmann::json(row.psnr_db) : nlohmann::json()},
-         {"coverage", row.coverage}});
+         {"ssim", row.ssim},
+         {"coverage", row.coverage},
+         {"held_out", row.held_out}});
   }
   return j;
 }

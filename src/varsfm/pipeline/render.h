@@ -28,11 +28,24 @@ struct RenderEvaluationOptions {
   std::filesystem::path textured;    // OBJ file or its folder
   std::filesystem::path image_dir;   // the photos
   std::filesystem::path render_dir;  // optional: renderings written here as NAME.png
+  // The novel-view protocol (scene/holdout.h): every N-th registered image by name was kept out
+  // of densification and texturing; those are reported apart (0: no held-out views).
+  int holdout = 0;
 };
 
 struct RenderEvaluationRow {
   std::string name;
   double psnr_db = 0;
+  double ssim = 0;
+  double coverage = 0;
+  bool held_out = false;
+};
+
+// Means over a group of views; PSNR and SSIM over the views that cover at least one pixel.
+struct RenderEvaluationMeans {
+  size_t num_images = 0;
+  double psnr_db = 0;
+  double ssim = 0;
   double coverage = 0;
 };
 
@@ -40,6 +53,8 @@ struct RenderEvaluationReport {
   std::vector<RenderEvaluationRow> images;  // every registered image, in id order
   double mean_psnr_db = 0;                  // over images that cover at least one pixel
   double mean_coverage = 0;
+  RenderEvaluationMeans held_out;  // the held-out views (none without a holdout)
+  RenderEvaluationMeans source;    // the views the model was made from
   double seconds = 0;
 };
 

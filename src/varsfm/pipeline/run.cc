@@ -4,6 +4,7 @@
 #include <fstream>
 #include <vector>
 
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
@@ -15,6 +16,7 @@ RunResult RunAll(const RunOptions& options) {
   if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
   const bool video = fs::is_regular_file(options.input);
   if (options.output.empty()) Fail("no output folder given");
+  CheckHoldout(options.holdout);
   static const std::vector<std::string> kStages = {"sparse", "dense", "mesh", "texture"};
   const auto last = std::find(kStages.begin(), kStages.end(), options.until);
   if (last == kStages.end())
@@ -79,6 +81,7 @@ RunResult RunAll(const RunOptions& options) {
     densify.image_dir = extracted.image_dir;
     densify.output = options.output;
     densify.dense = options.dense;
+    densify.holdout = options.holdout;
     result.seconds_densify = RunDensify(densify).seconds;
     add_seconds("densify", result.seconds_densify);
   }
@@ -97,8 +100,25 @@ RunResult RunAll(const RunOptions& options) {
     texture.image_dir = extracted.image_dir;
     texture.output = options.output;
     texture.texture = options.texture;
+    texture.holdout = options.holdout;
     result.seconds_texture = RunTexture(texture).seconds;
     add_seconds("texture", result.seconds_texture);
+    if (options.holdout > 0) {
+      RenderEvaluationOptions renders;
+      renders.sparse = texture.sparse;
+      renders.textured = options.output / "textured";
+      renders.image_dir = extracted.image_dir;
+      renders.holdout = options.holdout;
+      result.renders = EvaluateRenders(renders);
+      const RenderEvaluationMeans& h = result.renders.held_out;
+      const RenderEvaluationMeans& s = result.renders.source;
+      info(
+          "run: {} held-out views: PSNR {:.2f} dB, SSIM {:.3f} over {:.1f} % of the pixels "
+          "(source views: {:.2f} dB, SSIM {:.3f}, {:.1f} %)",
+          h.num_images, h.psnr_db, h.ssim, 100 * h.coverage, s.psnr_db, s.ssim, 100 * s.coverage);
+      summary["renders"] = ToJson(result.renders);
+      add_seconds("render_evaluation", result.renders.seconds);
+    }
   }
   return result;
 }

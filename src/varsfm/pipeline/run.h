@@ -10,6 +10,7 @@
 #include "varsfm/pipeline/map.h"
 #include "varsfm/pipeline/match.h"
 #include "varsfm/pipeline/mesh.h"
+#include "varsfm/pipeline/render.h"
 #include "varsfm/pipeline/texture.h"
 
 namespace varsfm {
@@ -27,6 +28,9 @@ struct RunOptions {
   DensifyOptions dense;
   SurfaceOptions surface;
   TextureOptions texture;
+  // Every N-th registered image by name is kept out of densify and texture, and the textured
+  // model is scored on those views at the end (scene/holdout.h); 0: none.
+  int holdout = 0;
 };
 
 struct RunResult {
@@ -37,6 +41,9 @@ struct RunResult {
   double seconds_densify = 0;  // 0 for stages not run
   double seconds_mesh = 0;
   double seconds_texture = 0;
+  // With a holdout: the textured model rendered from every registered camera, held-out views
+  // apart (held_out.num_images == 0 otherwise).
+  RenderEvaluationReport renders;
 };
 
 // Throws varsfm::Error (one line) for a missing input, a video that cannot be decoded, too few

@@ -1,6 +1,7 @@
 #include "varsfm/pipeline/texture.h"
 
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/texture/mesh_reader.h"
 #include "varsfm/texture/obj_io.h"
@@ -17,7 +18,10 @@ TextureCommandResult RunTexture(const TextureCommandOptions& options) {
   if (!std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
   const TriangleMesh mesh = ReadMeshPly(options.mesh);
-  const Reconstruction rec = ReadColmapModel(options.sparse);
+  CheckHoldout(options.holdout);
+  Reconstruction rec = ReadColmapModel(options.sparse);
+  if (const size_t n = HoldOutImages(&rec, options.holdout))
+    info("texture: {} held-out view(s) left out", n);
   if (rec.NumRegisteredImages() == 0)
     Fail("sparse model {} has no registered images to texture from", options.sparse.string());
 

@@ -14,6 +14,7 @@ struct TextureCommandOptions {
   std::filesystem::path image_dir;  // the photos, by the model's image names
   std::filesystem::path output;     // OUT: OUT/textured/ and OUT/model.glb are written
   TextureOptions texture;
+  int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
 };
 
 struct TextureCommandResult {

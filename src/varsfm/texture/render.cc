@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "varsfm/texture/rasterizer.h"
+#include "varsfm/texture/ssim.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -92,6 +93,7 @@ PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& p
   }
   score.coverage = static_cast<double>(score.covered_pixels) / (photo.rows * photo.cols);
   if (score.covered_pixels == 0) return score;
+  score.ssim = MaskedSsim(rendering.image, photo, rendering.mask);
   const double mse = sum_sq / (3.0 * score.covered_pixels);
   score.psnr_db =
       mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();

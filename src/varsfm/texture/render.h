@@ -22,11 +22,12 @@ Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
 
 struct PhotometricScore {
   double psnr_db = 0;   // over covered pixels and the three channels; +inf if identical
+  double ssim = 0;      // over covered pixels (ssim.h: MaskedSsim); 0 when nothing is covered
   double coverage = 0;  // covered pixels / all pixels
   size_t covered_pixels = 0;
 };
 
-// PSNR (peak 255) between a rendering and the photo over the rendering's mask. Throws
+// PSNR (peak 255) and SSIM between a rendering and the photo over the rendering's mask. Throws
 // varsfm::Error when the sizes differ.
 PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& photo);
 
