@@ -9,6 +9,7 @@
 
 #include "support/test_data.h"
 #include "varsfm/io/database.h"
+#include "varsfm/io/result_settings.h"
 
 namespace varsfm {
 namespace {
@@ -119,8 +120,9 @@ TEST(ColmapSchema, OpensAndWritesADatabaseMadeByColmap) {
   EXPECT_EQ(db.ReadCamera(1)->params, (std::vector<double>{90, 50, 40}));
 }
 
-// varsfm writes cameras, images and features; COLMAP's matcher reads them and writes matches and
-// verified geometry; varsfm reads those back. A synthetic 3D scene seen by two known cameras, so
+// varsfm writes cameras, images and features (and its record of their settings, in tables of its
+// own); COLMAP's matcher reads them and writes matches and verified geometry; varsfm reads those
+// back. A synthetic 3D scene seen by two known cameras, so
 // the geometry COLMAP estimates can be checked against the keypoints.
 TEST(ColmapSchema, ColmapMatcherRoundTrip) {
   if (!HaveColmap()) GTEST_SKIP() << "colmap is not installed; skipping";
@@ -156,6 +158,8 @@ TEST(ColmapSchema, ColmapMatcherRoundTrip) {
       const image_t image = db.WriteImage({0, name, camera});
       db.WriteKeypoints(image, *keypoints);
       db.WriteDescriptors(image, descriptors);
+      ResultSettings record(db);
+      record.WriteImageSettings(image, record.Id("extract", "synthetic"));
     }
     transaction.Commit();
   }

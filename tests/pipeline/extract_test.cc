@@ -215,6 +215,44 @@ TEST(ExtractCommand, AFailedRunLeavesTheWorkspaceAsItWas) {
   EXPECT_EQ(db.NumCameras(), 1u);
 }
 
+// Features are recorded with the settings they were extracted with: a re-run with other
+// settings extracts again (and drops the matches the old keypoints numbered), one with only
+// another thread count skips every image.
+TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
+  TempDir dir("extract_settings");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images);
+  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  const fs::path workspace = dir.path() / "ws.db";
+  const std::string input = "--images " + Quote(images);
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, input + " --max-features 40"), &out), 0) << out;
+  const std::string match =
+      fmt::format("{} match --workspace {}", Quote(VarsfmBinary()), Quote(workspace));
+  ASSERT_EQ(RunCommand(match, &out), 0) << out;
+  size_t few = 0;
+  {
+    Database db(workspace);
+    few = db.ReadKeypoints(1).size();
+    ASSERT_EQ(db.NumMatchedPairs(), 3u);
+  }
+
+  ASSERT_EQ(RunCommand(Extract(workspace, input), &out), 0) << out;
+  EXPECT_NE(out.find("3 images were extracted with other settings"), std::string::npos) << out;
+  {
+    Database db(workspace);
+    EXPECT_EQ(db.NumImages(), 3u);
+    EXPECT_EQ(db.NumCameras(), 3u);
+    EXPECT_GT(db.ReadKeypoints(1).size(), few);
+    EXPECT_EQ(db.NumMatchedPairs(), 0u);
+    EXPECT_TRUE(db.ReadAllTwoViewGeometries().empty());
+  }
+
+  ASSERT_EQ(RunCommand(Extract(workspace, input + " --threads 1"), &out), 0) << out;
+  EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << out;
+  EXPECT_EQ(out.find("other settings"), std::string::npos) << out;
+}
+
 // A video panning across a textured scene, with blurred frames at `blurred`.
 void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred) {
   cv::Mat scene(360, 480 + 10 * frames, CV_8UC3, cv::Scalar(120, 120, 120));

@@ -124,6 +124,42 @@ TEST(MatchPipeline, AKilledRunKeepsWhatItCommittedByTime) {
   EXPECT_EQ(Database(workspace).ReadAllTwoViewGeometries().size(), 28u);
 }
 
+// Pairs are recorded with the settings they were matched with: a re-run with other settings
+// matches every pair again (those that failed too), one with only another thread count skips
+// them all.
+TEST(MatchPipeline, OtherSettingsMatchAgainAndThreadsChangeNothing) {
+  TempDir dir("match_settings");
+  const auto workspace = dir.path() / "ws.db";
+  WriteRandomFeatures(workspace, 5);  // 10 pairs
+  MatchOptions options;
+  options.workspace = workspace;
+  options.num_threads = 2;
+  options.matching.max_ratio = 0.95;
+  EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+  const auto count_matches = [&] {
+    Database db(workspace);
+    size_t count = 0;
+    for (image_t id1 = 1; id1 <= 5; ++id1) {
+      for (image_t id2 = id1 + 1; id2 <= 5; ++id2) count += db.ReadMatches(id1, id2).size();
+    }
+    return count;
+  };
+  const size_t loose = count_matches();
+  ASSERT_GT(loose, 0u);
+
+  options.num_threads = 1;
+  EXPECT_EQ(RunMatching(options).num_skipped, 10u);
+
+  options.matching.max_ratio = 0.6;  // fewer matches
+  EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+  EXPECT_LT(count_matches(), loose);
+  EXPECT_EQ(RunMatching(options).num_skipped, 10u);
+
+  // A pair that failed verification is tried again under other verification settings.
+  options.verification.min_num_inliers = 8;
+  EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+}
+
 TEST(MatchCommand, BadWorkspacesFailWithOneLine) {
   TempDir dir("match_bad");
   const auto missing = dir.path() / "missing.db";

@@ -113,7 +113,8 @@ class Database {
   size_t NumVerifiedPairs() const;
 
  private:
-  struct Statements;  // the prepared statements, made once when the database is opened
+  friend class ResultSettings;  // varsfm's own tables beside COLMAP's, on this connection
+  struct Statements;            // the prepared statements, made once when the database is opened
   void Exec(const char* sql) const;
   sqlite3* db_ = nullptr;
   std::unique_ptr<Statements> statements_;

@@ -9,11 +9,13 @@
 
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
+#include <nlohmann/json.hpp>
 
 #include "varsfm/camera/colmap_models.h"
 #include "varsfm/image/image_io.h"
 #include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
+#include "varsfm/io/result_settings.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/progress.h"
@@ -93,6 +95,80 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
   return input;
 }
 
+// The settings that change an image's features, in a canonical text (sorted keys): a
+// re-extraction with other ones extracts again. Thread counts are left out on purpose.
+std::string FeatureSettings(const SiftOptions& sift) {
+  nlohmann::json settings;
+  settings["max_features"] = sift.max_features;
+  settings["max_image_size"] = sift.max_image_size;
+  settings["contrast_threshold"] = sift.contrast_threshold;
+  settings["edge_threshold"] = sift.edge_threshold;
+  return settings.dump();
+}
+
+// What a run does with each input image, given what the workspace holds.
+struct ExtractionPlan {
+  std::vector<size_t> todo;  // indices into the input names, to extract
+  // Names already in the workspace whose features this run writes (again): those without
+  // features (e.g. imported) and those extracted with other settings.
+  std::unordered_map<std::string, image_t> existing;
+  size_t num_existing = 0;  // skipped: extracted with these settings
+};
+
+// Images with features from these settings are skipped. Features with no record (made by
+// COLMAP or an earlier varsfm) are kept and recorded as made with these settings: nothing tells
+// what they were made with, and a user resuming expects them kept.
+ExtractionPlan PlanExtraction(Database& db, ResultSettings& record, int64_t settings,
+                              const std::vector<std::string>& names,
+                              const std::vector<bool>& unusable) {
+  const std::unordered_map<image_t, int64_t> recorded = record.ReadImageSettings();
+  std::unordered_map<std::string, image_t> current, stale, without_features;
+  std::vector<image_t> unrecorded;
+  for (const DbImage& image : db.ReadAllImages()) {
+    if (!db.ExistsKeypoints(image.image_id)) {
+      without_features[image.name] = image.image_id;
+      continue;
+    }
+    const auto it = recorded.find(image.image_id);
+    if (it == recorded.end()) unrecorded.push_back(image.image_id);
+    (it == recorded.end() || it->second == settings ? current : stale)[image.name] = image.image_id;
+  }
+  if (!unrecorded.empty()) {
+    Database::Transaction transaction(db);
+    for (const image_t image_id : unrecorded) record.WriteImageSettings(image_id, settings);
+    transaction.Commit();
+    info("{} images have features of unrecorded settings (COLMAP's or an earlier varsfm's): kept",
+         unrecorded.size());
+  }
+
+  ExtractionPlan plan;
+  size_t num_stale = 0;
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (current.contains(names[i])) {
+      ++plan.num_existing;
+      continue;
+    }
+    if (unusable[i]) continue;
+    plan.todo.push_back(i);
+    if (const auto it = stale.find(names[i]); it != stale.end()) {
+      plan.existing[names[i]] = it->second;
+      ++num_stale;
+    } else if (const auto it2 = without_features.find(names[i]); it2 != without_features.end()) {
+      plan.existing[names[i]] = it2->second;
+    }
+  }
+  if (plan.num_existing > 0) {
+    info("{} of {} images already extracted, skipped", plan.num_existing, names.size());
+  }
+  if (num_stale > 0) {
+    info(
+        "{} images were extracted with other settings: extracting them again (their matches "
+        "are removed)",
+        num_stale);
+  }
+  return plan;
+}
+
 // Removes `images` and their cameras, in one transaction (best effort: this runs while an error
 // is on its way out, and reports its own failure only in the log).
 void RemoveImages(Database& db, const std::vector<DbImage>& images) {
@@ -122,30 +198,17 @@ void RemoveWorkspace(const fs::path& workspace) {
 void WriteFeatures(Database& db, const ExtractOptions& options, const InputImages& input,
                    size_t first_index, std::optional<Image> first_image,
                    const std::vector<bool>& unusable, ExtractSummary& summary) {
-  const size_t n = input.names.size();
   std::vector<DbImage> added;  // image and camera ids written by this run
-  // Images already extracted are skipped; an image row without keypoints (e.g. imported from
-  // elsewhere) gets its features added under its existing id.
-  std::unordered_map<std::string, image_t> without_features;
-  std::unordered_map<std::string, bool> done;
-  for (const DbImage& image : db.ReadAllImages()) {
-    if (db.ExistsKeypoints(image.image_id)) {
-      done[image.name] = true;
-    } else {
-      without_features[image.name] = image.image_id;
-    }
-  }
-  std::vector<size_t> todo;
-  for (size_t i = 0; i < n; ++i) {
-    if (done.count(input.names[i])) {
-      ++summary.num_existing;
-    } else if (!unusable[i]) {
-      todo.push_back(i);
-    }
-  }
-  if (summary.num_existing > 0) {
-    info("{} of {} images already extracted, skipped", summary.num_existing, n);
-  }
+  ResultSettings record(db);
+  const int64_t settings = record.Id("extract", FeatureSettings(options.sift));
+  const ExtractionPlan plan = PlanExtraction(db, record, settings, input.names, unusable);
+  summary.num_existing = plan.num_existing;
+  const std::vector<size_t>& todo = plan.todo;
+  const std::vector<image_t> all_ids = [&db] {
+    std::vector<image_t> ids;
+    for (const DbImage& image : db.ReadAllImages()) ids.push_back(image.image_id);
+    return ids;
+  }();
 
   Progress progress("extract", todo.size());
   const auto extract = [&](size_t index) {
@@ -176,8 +239,14 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     }
     Database::Transaction transaction(db);
     image_t image_id;
-    if (const auto it = without_features.find(name); it != without_features.end()) {
+    if (const auto it = plan.existing.find(name); it != plan.existing.end()) {
       image_id = it->second;
+      // New features renumber the keypoints its matches refer to.
+      for (const image_t other : all_ids) {
+        if (other == image_id) continue;
+        db.DeletePair(image_id, other);
+        record.DeletePairSettings(image_id, other);
+      }
     } else {
       DbImage image;
       image.name = name;
@@ -188,6 +257,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     }
     db.WriteKeypoints(image_id, item.features.keypoints);
     db.WriteDescriptors(image_id, item.features.descriptors);
+    record.WriteImageSettings(image_id, settings);
     transaction.Commit();
     ++summary.num_extracted;
     summary.num_features += count;

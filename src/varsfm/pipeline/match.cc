@@ -11,8 +11,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
+#include <nlohmann/json.hpp>
 
 #include "varsfm/io/database.h"
+#include "varsfm/io/result_settings.h"
 #include "varsfm/matching/pair_selection.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -94,13 +96,70 @@ PairResult MatchPair(const LoadedImage& f1, const LoadedImage& f2, image_t id1, 
   return result;
 }
 
+// The settings that change a pair's matches and geometry, in a canonical text (sorted keys): a
+// re-run with other ones matches the pair again. Left out on purpose: the strategy and overlap
+// (they choose pairs, not what a pair gives), threads and use_simd (same results).
+std::string MatchSettings(const MatchOptions& options) {
+  nlohmann::json settings;
+  settings["max_ratio"] = options.matching.max_ratio;
+  settings["max_distance"] = options.matching.max_distance;
+  settings["cross_check"] = options.matching.cross_check;
+  const VerificationOptions& verification = options.verification;
+  settings["method"] = static_cast<int>(verification.method);
+  settings["max_error"] = verification.max_error;
+  settings["min_num_inliers"] = verification.min_num_inliers;
+  settings["confidence"] = verification.confidence;
+  settings["max_num_trials"] = verification.max_num_trials;
+  settings["max_H_inlier_ratio"] = verification.max_H_inlier_ratio;
+  settings["seed"] = options.seed;  // verification.seed is derived from it per pair
+  return settings.dump();
+}
+
+// The selected pairs still to match: pairs matched with these settings are skipped (counted in
+// summary.num_skipped); those matched with other settings are matched again, failed ones
+// included. A pair with no record (matched by COLMAP or an earlier varsfm) is kept and recorded
+// as matched with these settings.
+ImagePairs PairsToMatch(Database& db, ResultSettings& record, int64_t settings,
+                        const ImagePairs& selected, MatchSummary& summary) {
+  const std::unordered_map<image_pair_t, int64_t> recorded = record.ReadPairSettings();
+  ImagePairs pairs, unrecorded;
+  size_t num_stale = 0;
+  for (const auto& [id1, id2] : selected) {
+    if (db.ExistsTwoViewGeometry(id1, id2)) {
+      const auto it = recorded.find(Database::ImagePairToPairId(id1, id2));
+      if (it == recorded.end()) unrecorded.emplace_back(id1, id2);
+      if (it == recorded.end() || it->second == settings) {
+        ++summary.num_skipped;
+        continue;
+      }
+      ++num_stale;
+    }
+    pairs.emplace_back(id1, id2);
+  }
+  if (!unrecorded.empty()) {
+    Database::Transaction transaction(db);
+    for (const auto& [id1, id2] : unrecorded) record.WritePairSettings(id1, id2, settings);
+    transaction.Commit();
+    info("match: {} pairs matched with unrecorded settings (COLMAP's or an earlier varsfm's): kept",
+         unrecorded.size());
+  }
+  if (num_stale > 0) info("match: {} pairs were matched with other settings: again", num_stale);
+  return pairs;
+}
+
 // Writes pairs as they are verified, each whole, committing every commit_interval seconds: a
 // kill loses at most that much work, while one commit per pair would cost a commit per pair
 // (0.25 ms each, measured, in WAL mode).
 class PairWriter {
  public:
-  PairWriter(Database& db, const MatchOptions& options, MatchSummary& summary)
-      : db_(db), options_(options), summary_(summary), last_commit_(Now()) {}
+  PairWriter(Database& db, ResultSettings& record, int64_t settings, const MatchOptions& options,
+             MatchSummary& summary)
+      : db_(db),
+        record_(record),
+        settings_(settings),
+        options_(options),
+        summary_(summary),
+        last_commit_(Now()) {}
 
   // The open transaction rolls back when the writer is destroyed by an error.
   ~PairWriter() = default;
@@ -109,6 +168,7 @@ class PairWriter {
     if (!transaction_) transaction_.emplace(db_);
     db_.WriteMatches(id1, id2, result.matches);
     db_.WriteTwoViewGeometry(id1, id2, result.geometry);
+    record_.WritePairSettings(id1, id2, settings_);
     if (!result.geometry.inlier_matches.empty()) {
       ++summary_.num_verified;
       summary_.num_inlier_matches += result.geometry.inlier_matches.size();
@@ -136,6 +196,8 @@ class PairWriter {
   }
 
   Database& db_;
+  ResultSettings& record_;
+  const int64_t settings_;
   const MatchOptions& options_;
   MatchSummary& summary_;
   std::optional<Database::Transaction> transaction_;
@@ -144,10 +206,10 @@ class PairWriter {
 };
 
 // Verifies `pairs` in parallel, written in order as they finish.
-void MatchPairs(Database& db, const ImagePairs& pairs, const MatchOptions& options,
-                MatchSummary& summary) {
+void MatchPairs(Database& db, ResultSettings& record, int64_t settings, const ImagePairs& pairs,
+                const MatchOptions& options, MatchSummary& summary) {
   Progress progress("match", pairs.size());
-  PairWriter writer(db, options, summary);
+  PairWriter writer(db, record, settings, options, summary);
   std::map<image_t, std::shared_ptr<LoadedImage>> cache;
   for (size_t begin = 0; begin < pairs.size(); begin += kPairsPerChunk) {
     const size_t end = std::min(pairs.size(), begin + kPairsPerChunk);
@@ -214,18 +276,13 @@ MatchSummary RunMatching(const MatchOptions& options) {
   MatchSummary summary;
   summary.num_images = images.size();
   summary.num_pairs = all_pairs.size();
-  ImagePairs pairs;
-  for (const auto& [id1, id2] : all_pairs) {
-    if (db.ExistsTwoViewGeometry(id1, id2)) {
-      ++summary.num_skipped;
-    } else {
-      pairs.emplace_back(id1, id2);
-    }
-  }
+  ResultSettings record(db);
+  const int64_t settings = record.Id("match", MatchSettings(options));
+  const ImagePairs pairs = PairsToMatch(db, record, settings, all_pairs, summary);
   info("match: {} images, {} {} pairs ({} already verified)", images.size(), all_pairs.size(),
        options.strategy, summary.num_skipped);
 
-  MatchPairs(db, pairs, options, summary);
+  MatchPairs(db, record, settings, pairs, options, summary);
   info("match: {} of {} new pairs verified, {} inlier matches, {:.1f} s", summary.num_verified,
        pairs.size(), summary.num_inlier_matches, timer.Seconds());
   return summary;
