@@ -33,6 +33,12 @@ class CommandFailed(Exception):
 def timed(cmd, log_path, env=None, timeout=None):
     """Runs cmd (a list), its output to log_path; returns (wall s, CPU s of the child).
     Raises CommandFailed when it fails or runs past timeout seconds (then it is killed)."""
+    m = measured(cmd, log_path, env, timeout)
+    return m["wall_s"], m["cpu_s"]
+
+
+def measured(cmd, log_path, env=None, timeout=None):
+    """As timed(), returning {"wall_s", "cpu_s", "peak_mb"} (the child's peak resident memory)."""
     log_path = Path(log_path)
     log_path.parent.mkdir(parents=True, exist_ok=True)
     with open(log_path, "w") as out:
@@ -55,7 +61,8 @@ def timed(cmd, log_path, env=None, timeout=None):
         tail = Path(log_path).read_text(errors="replace").strip().splitlines()[-3:]
         raise CommandFailed(f"{cmd[0]} {cmd[1]} failed (exit {proc.returncode}): "
                             + " | ".join(tail))
-    return wall, usage.ru_utime + usage.ru_stime
+    return {"wall_s": wall, "cpu_s": usage.ru_utime + usage.ru_stime,
+            "peak_mb": usage.ru_maxrss / 1024.0}
 
 
 def machine_note():

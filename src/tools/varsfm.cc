@@ -359,6 +359,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--textured", render.textured,
                     "model.obj or its folder (default OUT/textured)");
     cmd->add_flag("--mask", render.write_mask, "also write NAME_mask.png (255: mesh covers)");
+    cmd->add_option("--panel", render.panel_image_dir,
+                    "the photos' folder: write photo | rendering | shaded mesh side by side");
     cmd->callback([&render] { varsfm::RunRender(render); });
   }
 

@@ -72,7 +72,16 @@ void RunRender(const RenderCommandOptions& options) {
   for (const image_t id : rec.RegisteredImageIds()) {
     if (rec.image(id).name != options.camera) continue;
     const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), rec.image(id).cam_from_world);
-    WriteRenderedImage(options.output, r.image);
+    if (options.panel_image_dir.empty()) {
+      WriteRenderedImage(options.output, r.image);
+    } else {
+      const cv::Mat photo = ReadModelPhoto(rec, id, options.panel_image_dir);
+      const cv::Mat shaded = RenderShadedMesh(mesh.vertices, mesh.faces, rec.CameraOf(id),
+                                              rec.image(id).cam_from_world);
+      cv::Mat panel;
+      cv::hconcat(std::vector<cv::Mat>{photo, r.image, shaded}, panel);
+      WriteRenderedImage(options.output, panel);
+    }
     if (options.write_mask) {
       fs::path mask = options.output;
       mask.replace_filename(options.output.stem().string() + "_mask.png");

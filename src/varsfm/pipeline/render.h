@@ -17,6 +17,9 @@ struct RenderCommandOptions {
   std::string camera;              // image name in the sparse model
   std::filesystem::path output;    // image file (PNG), black where the mesh does not reach
   bool write_mask = false;         // also write the coverage mask beside it (NAME_mask.png)
+  // With the photos' folder: the output is three panels side by side, photo | rendering | the
+  // mesh shaded without texture, to look at a view (a held-out one above all) as a person would.
+  std::filesystem::path panel_image_dir;
 };
 
 // Throws varsfm::Error (one line) for a missing model, an unknown image name, or an unwritable

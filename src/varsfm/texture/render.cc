@@ -72,6 +72,34 @@ Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
   return out;
 }
 
+cv::Mat RenderShadedMesh(const std::vector<Eigen::Vector3d>& vertices,
+                         const std::vector<Eigen::Vector3i>& faces, const Camera& camera,
+                         const Rigid3d& cam_from_world) {
+  const FaceRaster raster = RasterizeFaces(ProjectVertices(vertices, camera, cam_from_world), faces,
+                                           camera.width, camera.height);
+  std::vector<Eigen::Vector3d> normals(faces.size(), Eigen::Vector3d::Zero());
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const Eigen::Vector3d a = cam_from_world * vertices[faces[f][0]];
+    normals[f] = (cam_from_world * vertices[faces[f][1]] - a)
+                     .cross(cam_from_world * vertices[faces[f][2]] - a)
+                     .normalized();
+  }
+  cv::Mat image(camera.height, camera.width, CV_8UC3, cv::Scalar::all(0));
+  tbb::parallel_for(0, camera.height, [&](int y) {
+    cv::Vec3b* row = image.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < camera.width; ++x) {
+      const int32_t f = raster.FaceAt(x, y);
+      if (f < 0) continue;
+      const Eigen::Vector3d ray =
+          camera.ImageToNormalized(Eigen::Vector2d(x + 0.5, y + 0.5)).homogeneous().normalized();
+      const double shade = std::abs(normals[f].dot(ray));
+      // A floor of 40 keeps faces seen edge-on distinct from the empty background.
+      row[x] = cv::Vec3b::all(cv::saturate_cast<uchar>(40 + 215 * shade));
+    }
+  });
+  return image;
+}
+
 PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& photo) {
   if (photo.size() != rendering.image.size() || photo.type() != CV_8UC3)
     Fail("photometric comparison: photo is {}x{} but the rendering {}x{}", photo.cols, photo.rows,

@@ -20,6 +20,13 @@ struct Rendering {
 Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
                              const Rigid3d& cam_from_world);
 
+// The mesh alone, grey, lit from the camera (Lambert's cosine between the viewing ray and the
+// face normal, either side): the geometry as the texture hides it — holes, shards, warps.
+// Black where no face is seen.
+cv::Mat RenderShadedMesh(const std::vector<Eigen::Vector3d>& vertices,
+                         const std::vector<Eigen::Vector3i>& faces, const Camera& camera,
+                         const Rigid3d& cam_from_world);
+
 struct PhotometricScore {
   double psnr_db = 0;   // over covered pixels and the three channels; +inf if identical
   double ssim = 0;      // over covered pixels (ssim.h: MaskedSsim); 0 when nothing is covered
