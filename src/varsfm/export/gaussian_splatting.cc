@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/export/exported_images.h"
 #include "varsfm/export/undistortion.h"
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
@@ -31,12 +32,7 @@ Reconstruction UndistortReconstruction(const Reconstruction& reconstruction) {
 GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& reconstruction,
                                                        const std::filesystem::path& image_dir,
                                                        const std::filesystem::path& output) {
-  const std::vector<image_t> image_ids = reconstruction.RegisteredImageIds();
-  if (image_ids.empty()) Fail("the model has no registered image to export");
-  for (const image_t id : image_ids) {
-    const std::filesystem::path photo = image_dir / reconstruction.image(id).name;
-    if (!std::filesystem::is_regular_file(photo)) Fail("{}: no such photo", photo.string());
-  }
+  const std::vector<image_t> image_ids = ExportedImageIds(reconstruction, image_dir);
   const Reconstruction undistorted = UndistortReconstruction(reconstruction);
   WriteNewFolder(output, [&](const std::filesystem::path& dir) {
     for (const image_t id : image_ids) {

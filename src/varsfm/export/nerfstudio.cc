@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "varsfm/export/exported_images.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -58,12 +59,7 @@ nlohmann::json NerfstudioTransforms(const Reconstruction& reconstruction) {
 NerfstudioExportSummary ExportNerfstudio(const Reconstruction& reconstruction,
                                          const std::filesystem::path& image_dir,
                                          const std::filesystem::path& output) {
-  const std::vector<image_t> image_ids = reconstruction.RegisteredImageIds();
-  if (image_ids.empty()) Fail("the model has no registered image to export");
-  for (const image_t id : image_ids) {
-    const std::filesystem::path photo = image_dir / reconstruction.image(id).name;
-    if (!std::filesystem::is_regular_file(photo)) Fail("{}: no such photo", photo.string());
-  }
+  const std::vector<image_t> image_ids = ExportedImageIds(reconstruction, image_dir);
   const nlohmann::json transforms = NerfstudioTransforms(reconstruction);
   WriteNewFolder(output, [&](const std::filesystem::path& dir) {
     for (const image_t id : image_ids) {
