@@ -58,6 +58,23 @@ TEST(GroundTruth, BadFilesThrowOneLineNamingTheFile) {
   EXPECT_THROW(ReadStrechaGroundTruth(tmp.path()), Error);  // R is not a rotation
 }
 
+TEST(GroundTruth, ImplausibleImageSizeIsAnError) {
+  // Found by fuzz/ground_truth_fuzzer.cc: a width of 1e20 was converted to int (undefined
+  // behaviour) and the camera accepted.
+  testing::TempDir tmp("gt_size");
+  for (const char* size : {"1e20 2048", "3072 -1", "0 0"}) {
+    std::ofstream(tmp.path() / "0000.jpg.camera")
+        << "900 0 500\n0 910 330\n0 0 1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 0\n"
+        << size << "\n";
+    try {
+      ReadStrechaCamera(tmp.path() / "0000.jpg.camera");
+      FAIL() << "no error for " << size;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("is not plausible"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(GroundTruth, StrechaFountainIsConsistent) {
   VARSFM_REQUIRE_SHARED_DATA(gt_dir, "strecha/fountain-P11/gt");
   const GroundTruth gt = ReadStrechaGroundTruth(gt_dir);

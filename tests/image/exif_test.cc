@@ -128,6 +128,16 @@ TEST(Exif, NoFocalWithoutTagsOrWithPlaceholderValues) {
   EXPECT_FALSE(ExifFocalLengthPixels(b.data(), b.size(), 160, 120).has_value());
 }
 
+TEST(Exif, CorruptResolutionUnitIsNoUnit) {
+  // Found by fuzz/exif_fuzzer.cc: a unit of 4e9 was converted to int (undefined behaviour).
+  ExifWriter exif;
+  exif.Rational(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_LENGTH, 6, 1);
+  exif.Rational(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_PLANE_X_RESOLUTION, 5000, 1);
+  exif.Long(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_PLANE_RESOLUTION_UNIT, 4000000000u);
+  const std::vector<uint8_t> jpeg = exif.Insert(EncodedTestImage(160, 120));
+  EXPECT_FALSE(ExifFocalLengthPixels(jpeg.data(), jpeg.size(), 160, 120).has_value());
+}
+
 TEST(ReadImage, AppliesExifOrientationAndReadsFocal) {
   testing::TempDir dir("exif_orientation");
   ExifWriter exif;

@@ -30,6 +30,9 @@ GroundTruthCamera ReadStrechaCamera(const fs::path& file) {
       R.determinant() < 0)
     Fail("{}: R is not a rotation", file.string());
   if (!distortion.isZero()) Fail("{}: non-zero distortion row is not supported", file.string());
+  // Checked before the conversion to int, undefined beyond its range (or for NaN).
+  if (!(width >= 1 && width <= 1e6 && height >= 1 && height <= 1e6))
+    Fail("{}: image size {} x {} is not plausible", file.string(), width, height);
 
   GroundTruthCamera gt;
   gt.name = file.stem().string();  // "0000.jpg.camera" -> "0000.jpg"

@@ -53,21 +53,15 @@ std::optional<double> ReadNumber(ExifData* data, ExifTag tag) {
 
 // Millimetres per FocalPlaneResolutionUnit (EXIF 2.3: 2 = inch, the default, 3 = cm; TIFF/EP
 // adds 4 = mm and 5 = micrometre, which some cameras write).
+// Compared as a double: a corrupt tag may hold any rational, and converting one beyond int's
+// range is undefined.
 std::optional<double> ResolutionUnitMm(ExifData* data) {
-  const int unit =
-      static_cast<int>(ReadNumber(data, EXIF_TAG_FOCAL_PLANE_RESOLUTION_UNIT).value_or(2));
-  switch (unit) {
-    case 2:
-      return 25.4;
-    case 3:
-      return 10.0;
-    case 4:
-      return 1.0;
-    case 5:
-      return 0.001;
-    default:
-      return std::nullopt;
-  }
+  const double unit = ReadNumber(data, EXIF_TAG_FOCAL_PLANE_RESOLUTION_UNIT).value_or(2);
+  if (unit == 2) return 25.4;
+  if (unit == 3) return 10.0;
+  if (unit == 4) return 1.0;
+  if (unit == 5) return 0.001;
+  return std::nullopt;
 }
 
 }  // namespace

@@ -48,6 +48,28 @@ std::string LowerExtension(const std::filesystem::path& path) {
   return extension;
 }
 
+// Refuses a JPEG or PNG whose declared size is more than kMaxImagePixels, or (PNG) more than
+// its bytes can expand to: deflate expands at most 1032:1 (a 258-byte match in two 1-bit codes,
+// RFC 1951) and a pixel takes at least one bit, so a PNG holds at most 8 * 1032 pixels per byte.
+// Either way a few bytes could otherwise make the decoder allocate gigabytes.
+void RequirePlausibleSize(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
+                          bool jpeg) {
+  uint64_t width = 0, height = 0;
+  if (int w = 0, h = 0; jpeg && JpegDimensions(bytes.data(), bytes.size(), &w, &h)) {
+    width = static_cast<uint64_t>(std::max(w, 0));
+    height = static_cast<uint64_t>(std::max(h, 0));
+  } else if (uint32_t w = 0, h = 0; !jpeg && PngDimensions(bytes.data(), bytes.size(), &w, &h)) {
+    width = w;
+    height = h;
+    if (width * height > 8 * 1032 * uint64_t{bytes.size()})
+      Fail("image {} declares {} x {} pixels, more than its {} bytes can hold (corrupt PNG)",
+           path.string(), width, height, bytes.size());
+  }
+  if (width * height > kMaxImagePixels)
+    Fail("image {} is {} x {} pixels, more than the {} varsfm decodes", path.string(), width,
+         height, kMaxImagePixels);
+}
+
 bool WriteFileBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
   file.write(reinterpret_cast<const char*>(bytes.data()),
@@ -59,6 +81,10 @@ bool WriteFileBytes(const std::filesystem::path& path, const std::vector<uint8_t
 }  // namespace
 
 std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  // A folder opens as a stream, and the first read of the iterators below throws
+  // std::ios_base::failure (the stream's own extractors would only set badbit).
+  if (std::filesystem::is_directory(path, ec)) Fail("image {} is a folder", path.string());
   std::ifstream file(path, std::ios::binary);
   if (!file) Fail("cannot open image {}", path.string());
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(file)),
@@ -74,6 +100,7 @@ cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t
   if (jpeg && !IsCompleteJpeg(bytes.data(), bytes.size())) {
     Fail("image {} is a truncated or corrupt JPEG", path.string());
   }
+  RequirePlausibleSize(path, bytes, jpeg);
   std::optional<cv::Mat> direct;
   int orientation = 1;
   if (jpeg) {

@@ -16,6 +16,10 @@ namespace varsfm {
 
 enum class ColorMode { kGray, kColor };
 
+// The most pixels DecodeImage decodes (2^28, 268 Mpx: 805 MB as BGR), above any camera's; a
+// larger size field is taken for a corrupt or malicious file and refused before allocation.
+inline constexpr uint64_t kMaxImagePixels = uint64_t{1} << 28;
+
 // The bytes of `path`. Throws varsfm::Error (one line naming the file) when it cannot be read
 // or is empty.
 std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path);
@@ -23,8 +27,9 @@ std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path);
 // Decodes the contents `bytes` of image file `path` (named in errors) into the pixels
 // cv::imread(IMREAD_GRAYSCALE / IMREAD_COLOR) gave: 8-bit, 1 or 3 (BGR) channels, upright
 // (EXIF orientation applied). Throws varsfm::Error (one line naming the file) when it is not a
-// decodable image, is a truncated JPEG (which libjpeg would silently grey-fill), or needs the
-// OpenCV I/O plug-in and that cannot be loaded.
+// decodable image, is a truncated JPEG (which libjpeg would silently grey-fill), declares more
+// than kMaxImagePixels (or a PNG more than its data can hold), or needs the OpenCV I/O plug-in
+// and that cannot be loaded.
 cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
                     ColorMode mode);
 

@@ -47,6 +47,13 @@ std::optional<cv::Mat> DecodeJpeg(const uint8_t* data, size_t size, ColorMode mo
   return pixels;
 }
 
+bool JpegDimensions(const uint8_t* data, size_t size, int* width, int* height) {
+  TjHandle handle(tjInitDecompress());
+  int subsampling = 0, colorspace = 0;
+  return handle && tjDecompressHeader3(handle.get(), data, static_cast<unsigned long>(size), width,
+                                       height, &subsampling, &colorspace) == 0;
+}
+
 bool EncodeJpeg(const cv::Mat& image, int quality, std::vector<uint8_t>* jpeg) {
   if (image.depth() != CV_8U || image.empty()) return false;
   int pixel_format = 0;

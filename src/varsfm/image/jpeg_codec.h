@@ -21,6 +21,9 @@ namespace varsfm {
 // converts them itself.
 std::optional<cv::Mat> DecodeJpeg(const uint8_t* data, size_t size, ColorMode mode);
 
+// The width and height the JPEG `data`'s frame header declares; false when it has none.
+bool JpegDimensions(const uint8_t* data, size_t size, int* width, int* height);
+
 // Encodes 8-bit grey, BGR or BGRA `image` (alpha dropped) as a baseline JPEG of `quality`
 // (0-100) with 4:2:0 chroma subsampling (grey: one component) and the accurate DCT, as
 // cv::imencode does. Returns false for other image types.

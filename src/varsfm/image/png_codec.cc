@@ -100,6 +100,19 @@ bool LooksLikePng(const uint8_t* data, size_t size) {
   return size >= sizeof(kSignature) && std::memcmp(data, kSignature, sizeof(kSignature)) == 0;
 }
 
+bool PngDimensions(const uint8_t* data, size_t size, uint32_t* width, uint32_t* height) {
+  // Signature (8 bytes), then the IHDR chunk: length (4), "IHDR", width and height big-endian.
+  if (!LooksLikePng(data, size) || size < 24 || std::memcmp(data + 12, "IHDR", 4) != 0)
+    return false;
+  auto big_endian = [&](size_t at) {
+    return (uint32_t{data[at]} << 24) | (uint32_t{data[at + 1]} << 16) |
+           (uint32_t{data[at + 2]} << 8) | uint32_t{data[at + 3]};
+  };
+  *width = big_endian(16);
+  *height = big_endian(20);
+  return true;
+}
+
 cv::Mat DecodePng(const uint8_t* data, size_t size, ColorMode mode, std::vector<uint8_t>* exif) {
   if (exif != nullptr) exif->clear();
   if (!LooksLikePng(data, size)) return cv::Mat();

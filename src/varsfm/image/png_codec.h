@@ -15,6 +15,10 @@ namespace varsfm {
 // True when `data` starts with the PNG signature.
 bool LooksLikePng(const uint8_t* data, size_t size);
 
+// The width and height the PNG `data`'s IHDR chunk declares (the first chunk, by the PNG
+// specification); false when the data is too short or does not start with one.
+bool PngDimensions(const uint8_t* data, size_t size, uint32_t* width, uint32_t* height);
+
 // Decodes the PNG `data` into 8-bit grey or BGR pixels as cv::imdecode(IMREAD_GRAYSCALE /
 // IMREAD_COLOR) does: 16-bit samples keep their high byte, alpha is dropped, palettes and low
 // bit depths are expanded, colour becomes grey with libpng's weights (0.299, 0.587, 0.114).

@@ -60,17 +60,53 @@ void Put(std::ostream& out, T value) {
   out.write(reinterpret_cast<const char*>(&value), sizeof(T));
 }
 
-template <typename T>
-T Get(std::istream& in, const fs::path& file) {
-  T value;
-  if (!in.read(reinterpret_cast<char*>(&value), sizeof(T)))
-    Fail("{}: truncated binary COLMAP file", file.string());
-  if constexpr (std::endian::native == std::endian::big) {
-    auto* bytes = reinterpret_cast<char*>(&value);
-    std::reverse(bytes, bytes + sizeof(T));
+// A binary COLMAP file being read, with the count of bytes left in it, so that a record count
+// read from the file is checked against what the file can hold before anything is sized from it
+// (a corrupt count of 2^40 points would otherwise allocate terabytes).
+class BinaryFile {
+ public:
+  explicit BinaryFile(const fs::path& file) : file_(file), in_(file, std::ios::binary) {
+    if (!in_) Fail("{}: cannot open", file.string());
+    std::error_code ec;
+    left_ = fs::file_size(file, ec);
+    if (ec) Fail("{}: cannot read its size: {}", file.string(), ec.message());
   }
-  return value;
-}
+
+  template <typename T>
+  T Get() {
+    T value;
+    if (left_ < sizeof(T) || !in_.read(reinterpret_cast<char*>(&value), sizeof(T)))
+      Fail("{}: truncated binary COLMAP file", file_.string());
+    left_ -= sizeof(T);
+    if constexpr (std::endian::native == std::endian::big) {
+      auto* bytes = reinterpret_cast<char*>(&value);
+      std::reverse(bytes, bytes + sizeof(T));
+    }
+    return value;
+  }
+
+  // A NUL-terminated string.
+  std::string GetString() {
+    std::string text;
+    if (!std::getline(in_, text, '\0') || left_ < text.size() + 1)
+      Fail("{}: truncated image name", file_.string());
+    left_ -= text.size() + 1;
+    return text;
+  }
+
+  // Throws unless `count` records of at least `record_bytes` each fit in the bytes left.
+  uint64_t Count(uint64_t count, uint64_t record_bytes, const char* what) {
+    if (count > left_ / record_bytes)
+      Fail("{}: {} {} cannot fit in the {} bytes left (corrupt count)", file_.string(), count, what,
+           left_);
+    return count;
+  }
+
+ private:
+  fs::path file_;
+  std::ifstream in_;
+  uint64_t left_ = 0;
+};
 
 // ---------------------------------------------------------------------------------------------
 // Writing.
@@ -302,20 +338,19 @@ void ReadCamerasText(const fs::path& file, Reconstruction* rec) {
 }
 
 void ReadCamerasBinary(const fs::path& file, Reconstruction* rec) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail("{}: cannot open", file.string());
-  const uint64_t n = Get<uint64_t>(in, file);
+  BinaryFile in(file);
+  const uint64_t n = in.Get<uint64_t>();
   for (uint64_t i = 0; i < n; ++i) {
-    const auto id = Get<uint32_t>(in, file);
-    const auto model_id = Get<int32_t>(in, file);
-    const auto width = Get<uint64_t>(in, file);
-    const auto height = Get<uint64_t>(in, file);
+    const auto id = in.Get<uint32_t>();
+    const auto model_id = in.Get<int32_t>();
+    const auto width = in.Get<uint64_t>();
+    const auto height = in.Get<uint64_t>();
     const size_t num_params = ColmapNumParams(model_id);
     if (num_params == 0)
       Fail("{}: camera {}: COLMAP camera model id {} is not supported", file.string(), id,
            model_id);
     std::vector<double> params(num_params);
-    for (double& p : params) p = Get<double>(in, file);
+    for (double& p : params) p = in.Get<double>();
     rec->AddCamera(CameraFromRecord(file, id, model_id, params, static_cast<int>(width),
                                     static_cast<int>(height)));
   }
@@ -361,23 +396,22 @@ void ReadImagesText(const fs::path& file, Reconstruction* rec) {
 }
 
 void ReadImagesBinary(const fs::path& file, Reconstruction* rec) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail("{}: cannot open", file.string());
-  const uint64_t n = Get<uint64_t>(in, file);
+  BinaryFile in(file);
+  const uint64_t n = in.Get<uint64_t>();
   for (uint64_t i = 0; i < n; ++i) {
     Image image;
-    image.image_id = Get<uint32_t>(in, file);
+    image.image_id = in.Get<uint32_t>();
     double v[7];
-    for (double& x : v) x = Get<double>(in, file);
+    for (double& x : v) x = in.Get<double>();
     image.cam_from_world = PoseFrom(v);
-    image.camera_id = Get<uint32_t>(in, file);
-    if (!std::getline(in, image.name, '\0')) Fail("{}: truncated image name", file.string());
-    const uint64_t num_points = Get<uint64_t>(in, file);
-    image.points2D.resize(num_points);
+    image.camera_id = in.Get<uint32_t>();
+    image.name = in.GetString();
+    // Each 2D point: x, y (double) and a point id (uint64).
+    image.points2D.resize(in.Count(in.Get<uint64_t>(), 24, "2D points"));
     for (Point2D& p : image.points2D) {
-      p.xy.x() = Get<double>(in, file);
-      p.xy.y() = Get<double>(in, file);
-      Get<uint64_t>(in, file);  // the link is rebuilt from the tracks
+      p.xy.x() = in.Get<double>();
+      p.xy.y() = in.Get<double>();
+      in.Get<uint64_t>();  // the link is rebuilt from the tracks
     }
     AddImageChecked(file, std::move(image), rec);
   }
@@ -404,19 +438,18 @@ std::vector<PendingPoint> ReadPointsText(const fs::path& file) {
 }
 
 std::vector<PendingPoint> ReadPointsBinary(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail("{}: cannot open", file.string());
-  const uint64_t n = Get<uint64_t>(in, file);
-  std::vector<PendingPoint> points(n);
+  BinaryFile in(file);
+  // Each point: id, x, y, z, r, g, b, error, track length (8 + 24 + 3 + 8 + 8 bytes).
+  std::vector<PendingPoint> points(in.Count(in.Get<uint64_t>(), 51, "3D points"));
   for (PendingPoint& point : points) {
-    Get<uint64_t>(in, file);  // ids are reassigned by Reconstruction::AddPoint3D
-    for (int k = 0; k < 3; ++k) point.xyz[k] = Get<double>(in, file);
-    for (int k = 0; k < 3; ++k) point.color[k] = Get<uint8_t>(in, file);
-    point.error = Get<double>(in, file);
-    point.track.resize(Get<uint64_t>(in, file));
+    in.Get<uint64_t>();  // ids are reassigned by Reconstruction::AddPoint3D
+    for (int k = 0; k < 3; ++k) point.xyz[k] = in.Get<double>();
+    for (int k = 0; k < 3; ++k) point.color[k] = in.Get<uint8_t>();
+    point.error = in.Get<double>();
+    point.track.resize(in.Count(in.Get<uint64_t>(), 8, "track elements"));
     for (TrackElement& el : point.track) {
-      el.image_id = Get<uint32_t>(in, file);
-      el.point2D_idx = Get<uint32_t>(in, file);
+      el.image_id = in.Get<uint32_t>();
+      el.point2D_idx = in.Get<uint32_t>();
     }
   }
   return points;

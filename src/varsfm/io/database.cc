@@ -94,7 +94,7 @@ FeatureMatches MatchesFromRow(const Query& query, int rows_column) {
   const int64_t rows = query.Int(rows_column);
   const int64_t cols = query.Int(rows_column + 1);
   if (rows > 0 && cols != 2) query.Fail(fmt::format("{} columns, expected 2", cols));
-  const auto values = query.Array<point2D_t>(rows_column + 2, rows * cols);
+  const auto values = query.Array<point2D_t>(rows_column + 2, query.ArraySize(rows, cols));
   FeatureMatches matches(static_cast<size_t>(rows));
   if (!values.empty())
     std::memcpy(static_cast<void*>(matches.data()), values.data(),
@@ -445,7 +445,10 @@ FeatureKeypoints Database::ReadKeypoints(image_t image_id) const {
   if (!query.Bind(image_id).Step()) return {};
   const int64_t rows = query.Int(0);
   const int64_t cols = query.Int(1);
-  const auto values = query.Array<float>(2, rows * cols);
+  const auto values = query.Array<float>(2, query.ArraySize(rows, cols));
+  // Checked before sizing: with 0 columns any number of rows fits an empty blob.
+  if (rows > 0 && cols != 2 && cols != 4 && cols != 6)
+    query.Fail(fmt::format("image {}: {} columns, expected 2, 4 or 6", image_id, cols));
   FeatureKeypoints keypoints(static_cast<size_t>(rows));
   for (size_t i = 0; i < keypoints.size(); ++i) {
     const float* row = values.data() + i * cols;
@@ -465,8 +468,8 @@ FeatureKeypoints Database::ReadKeypoints(image_t image_id) const {
       case 2:
         keypoints[i] = FeatureKeypoint(row[0], row[1]);
         break;
-      default:
-        query.Fail(fmt::format("image {}: {} columns, expected 2, 4 or 6", image_id, cols));
+      default:  // refused above
+        break;
     }
   }
   return keypoints;
@@ -477,7 +480,7 @@ FeatureDescriptors Database::ReadDescriptors(image_t image_id) const {
   if (!query.Bind(image_id).Step()) return {};
   const int64_t rows = query.Int(0);
   const int64_t cols = query.Int(1);
-  const auto values = query.Array<uint8_t>(2, rows * cols);
+  const auto values = query.Array<uint8_t>(2, query.ArraySize(rows, cols));
   FeatureDescriptors descriptors(rows, cols);
   if (!values.empty()) std::memcpy(descriptors.data(), values.data(), values.size());
   return descriptors;

@@ -128,7 +128,10 @@ PointCloud ReadPly(const fs::path& file) {
     };
     cloud.points.push_back(vec("x", "y", "z"));
     if (normals) cloud.normals.push_back(vec("nx", "ny", "nz"));
-    if (colors) cloud.colors.push_back(vec("red", "green", "blue").cast<uint8_t>());
+    if (colors)
+      cloud.colors.emplace_back(ply::ColorByte(values[index["red"]]),
+                                ply::ColorByte(values[index["green"]]),
+                                ply::ColorByte(values[index["blue"]]));
   }
   return cloud;
 }

@@ -33,7 +33,36 @@ double Decode(const char* bytes, const std::string& type) {
   return as(double{});
 }
 
+// Throws unless every element's records fit in the bytes after the header (see ReadHeader).
+void RequireCountsFit(const Header& header, std::istream& in, const std::filesystem::path& file) {
+  const std::streampos start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streampos end = in.tellg();
+  in.seekg(start);
+  if (start < 0 || end < start) Fail("{}: cannot find the size of the PLY data", file.string());
+  uint64_t left = static_cast<uint64_t>(end - start);
+  for (const Element& e : header.elements) {
+    // The least a record can take: binary, each scalar's bytes and each list's count; ascii, a
+    // character per property.
+    uint64_t record = 0;
+    for (const Property& p : e.properties)
+      record +=
+          header.binary ? std::max<size_t>(TypeSize(p.IsList() ? p.count_type : p.type), 1) : 1;
+    if (e.count > 0 && record == 0)
+      Fail("{}: PLY element {} has {} records but no properties", file.string(), e.name, e.count);
+    if (record > 0 && e.count > left / record)
+      Fail("{}: PLY header declares {} {} records, more than the data after it can hold",
+           file.string(), e.count, e.name);
+    left -= record * e.count;
+  }
+}
+
 }  // namespace
+
+uint8_t ColorByte(double value) {
+  if (!(value > 0)) return 0;  // also NaN
+  return value >= 255 ? uint8_t{255} : static_cast<uint8_t>(value);
+}
 
 size_t TypeSize(const std::string& type) {
   static const std::map<std::string, size_t> sizes = {
@@ -54,7 +83,10 @@ Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
     std::istringstream s(line);
     std::string keyword;
     s >> keyword;
-    if (keyword == "end_header") return header;
+    if (keyword == "end_header") {
+      RequireCountsFit(header, in, file);
+      return header;
+    }
     if (keyword == "format") {
       std::string format;
       s >> format;
@@ -108,7 +140,8 @@ bool ReadRecord(ValueReader& reader, const Element& element, std::vector<double>
       continue;
     }
     double count;
-    if (!reader.Read(p.count_type, &count) || count < 0) return false;
+    // Negated so that NaN fails too; the bound keeps the conversion below defined.
+    if (!reader.Read(p.count_type, &count) || !(count >= 0 && count < 4294967296.0)) return false;
     // Grown item by item rather than sized from `count`, so a corrupt count ends as truncated
     // data instead of a huge allocation.
     std::vector<double>& list = (*lists)[k];

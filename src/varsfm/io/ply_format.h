@@ -3,6 +3,7 @@
 // meshes in texture/mesh_reader.cc) so the header grammar and the scalar types are parsed in one
 // place. Supports ascii and binary_little_endian (byte-swapped on a big-endian host).
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <istream>
 #include <string>
@@ -35,12 +36,19 @@ struct Header {
 size_t TypeSize(const std::string& type);
 
 // Reads up to and including end_header. Throws varsfm::Error naming `file` for a file that is not
-// PLY, an unsupported format or a missing end_header. Property types are not checked here: a
-// reader checks those of the elements it uses (RequireKnownTypes), so it can skip the rest.
+// PLY, an unsupported format, a missing end_header, or element counts the data after the header
+// cannot hold (each record takes at least a byte per property; a record of no properties takes
+// nothing, so such an element must be empty), which keeps a corrupt count from driving a reader
+// into a near-endless loop or a huge allocation. Property types are not checked here: a reader
+// checks those of the elements it uses (RequireKnownTypes), so it can skip the rest.
 Header ReadHeader(std::istream& in, const std::filesystem::path& file);
 
 // Throws varsfm::Error naming `file` when a property of `element` has an unknown type.
 void RequireKnownTypes(const Element& element, const std::filesystem::path& file);
+
+// A colour value as a byte: truncated, clamped to 0-255, NaN as 0 (foreign files may store
+// colours as floats, out of range, or not as numbers at all).
+uint8_t ColorByte(double value);
 
 // Reads scalar values from the data after the header, ascii or binary.
 class ValueReader {

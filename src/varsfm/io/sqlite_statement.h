@@ -78,12 +78,13 @@ class Query {
     return text != nullptr ? std::string(text, sqlite3_column_bytes(stmt_, column)) : "";
   }
   // The blob as `count` values of T; an empty or NULL blob is read as zero values. A size that
-  // disagrees with the row's rows x cols means a corrupt or foreign row.
+  // disagrees with the row's rows x cols means a corrupt or foreign row. Compared by division:
+  // count * sizeof(T) could wrap around to the size of a small blob.
   template <typename T>
   std::vector<T> Array(int column, int64_t count) const {
     const void* data = sqlite3_column_blob(stmt_, column);
     const size_t bytes = static_cast<size_t>(sqlite3_column_bytes(stmt_, column));
-    if (count < 0 || bytes != static_cast<size_t>(count) * sizeof(T)) {
+    if (count < 0 || bytes % sizeof(T) != 0 || static_cast<uint64_t>(count) != bytes / sizeof(T)) {
       Fail(fmt::format("blob {} has {} bytes, expected {} values of {} bytes",
                        sqlite3_column_name(stmt_, column), bytes, count, sizeof(T)));
     }
@@ -93,6 +94,14 @@ class Query {
   }
   [[noreturn]] void Fail(std::string_view problem) const {
     varsfm::Fail("{}: {}: {}", PathOf(db_), what_, problem);
+  }
+  // rows x cols of a row's array; a negative or overflowing size is a corrupt row, refused
+  // before anything is sized from it.
+  int64_t ArraySize(int64_t rows, int64_t cols) const {
+    int64_t count = 0;
+    if (rows < 0 || cols < 0 || __builtin_mul_overflow(rows, cols, &count))
+      Fail(fmt::format("array of {} x {} values", rows, cols));
+    return count;
   }
   int64_t Bytes(int column) const { return sqlite3_column_bytes(stmt_, column); }
   bool IsEmpty(int column) const { return Bytes(column) == 0; }

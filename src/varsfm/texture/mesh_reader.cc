@@ -19,6 +19,13 @@ int PropertyIndex(const ply::Element& element, const std::string& name) {
   return -1;
 }
 
+// A face's vertex index, read as a double: checked before the conversion, which is undefined for
+// NaN or values beyond int (the check against the vertex count comes once all are read).
+int VertexIndex(double value, const fs::path& file) {
+  if (!(value >= 0 && value < 2147483647.0)) Fail("{}: face index out of range", file.string());
+  return static_cast<int>(value);
+}
+
 }  // namespace
 
 // The PLY grammar (header, types, ascii/binary records) is io/ply_format's; this only maps the
@@ -50,9 +57,8 @@ TriangleMesh ReadMeshPly(const fs::path& file) {
       if (is_vertex) {
         mesh.vertices.emplace_back(values[ix], values[iy], values[iz]);
         if (has_colors)
-          mesh.colors.emplace_back(static_cast<uint8_t>(values[ir]),
-                                   static_cast<uint8_t>(values[ig]),
-                                   static_cast<uint8_t>(values[ib]));
+          mesh.colors.emplace_back(ply::ColorByte(values[ir]), ply::ColorByte(values[ig]),
+                                   ply::ColorByte(values[ib]));
         continue;
       }
       if (!is_face) continue;
@@ -63,8 +69,8 @@ TriangleMesh ReadMeshPly(const fs::path& file) {
         // Fan polygons into triangles (convex faces, as PLY writers produce).
         const std::vector<double>& ids = lists[k];
         for (size_t j = 2; j < ids.size(); ++j)
-          mesh.faces.emplace_back(static_cast<int>(ids[0]), static_cast<int>(ids[j - 1]),
-                                  static_cast<int>(ids[j]));
+          mesh.faces.emplace_back(VertexIndex(ids[0], file), VertexIndex(ids[j - 1], file),
+                                  VertexIndex(ids[j], file));
       }
     }
   }

@@ -106,7 +106,8 @@ TexturedMesh ReadTexturedObj(const fs::path& obj_file) {
       s >> key;
       if (key == "v") {
         Eigen::Vector3d v;
-        s >> v.x() >> v.y() >> v.z();
+        if (!(s >> v.x() >> v.y() >> v.z()))
+          Fail("{}:{}: malformed vertex", obj_file.string(), line_number);
         mesh.vertices.push_back(v);
       } else if (key == "vt") {
         float u = 0, v = 0;
