@@ -4,51 +4,15 @@
 
 #include <cmath>
 
+#include "sfm/mapper_input.h"
 #include "varsfm/eval/alignment.h"
 #include "varsfm/synthetic/synthetic_scene.h"
 
 namespace varsfm {
 namespace {
 
-// The mapper's input made from a synthetic scene: every image unregistered with a camera at the
-// usual prior (1.2 max(w, h), centred principal point), and correspondences between all pairs
-// of images from the points they both see.
-struct MapperInput {
-  Reconstruction reconstruction;
-  CorrespondenceGraph graph;
-};
-
-MapperInput MakeInput(const SyntheticScene& scene) {
-  MapperInput in;
-  for (int i = 0; i < scene.NumImages(); ++i) {
-    const Camera& truth = scene.cameras[i];
-    Camera camera =
-        Camera::FromFocal(truth.width, truth.height, 1.2 * std::max(truth.width, truth.height));
-    camera.camera_id = i + 1;
-    in.reconstruction.AddCamera(camera);
-    Image image;
-    image.image_id = i + 1;
-    image.camera_id = camera.camera_id;
-    image.name = "image" + std::to_string(i);
-    for (const auto& obs : scene.observations[i]) image.points2D.push_back({obs.pixel});
-    in.graph.AddImage(image.image_id, image.points2D.size());
-    in.reconstruction.AddImage(image);
-  }
-  for (int i = 0; i < scene.NumImages(); ++i) {
-    std::map<int, point2D_t> index_of_point;
-    for (point2D_t k = 0; k < scene.observations[i].size(); ++k)
-      index_of_point[scene.observations[i][k].point_id] = k;
-    for (int j = i + 1; j < scene.NumImages(); ++j) {
-      FeatureMatches matches;
-      for (point2D_t k = 0; k < scene.observations[j].size(); ++k) {
-        const auto it = index_of_point.find(scene.observations[j][k].point_id);
-        if (it != index_of_point.end()) matches.push_back({it->second, k});
-      }
-      in.graph.AddImagePair(i + 1, j + 1, matches);
-    }
-  }
-  return in;
-}
+using testing::MakeInput;
+using testing::MapperInput;
 
 SyntheticOptions ZoomingOrbit() {
   SyntheticOptions o;

@@ -157,41 +157,39 @@ void RemoveStaleModels(const std::filesystem::path& sparse, size_t num_models) {
   }
 }
 
-}  // namespace
-
-nlohmann::json ReconstructionSummaryJson(const Reconstruction& rec) {
-  nlohmann::json j;
-  j["images_total"] = rec.images().size();
-  j["images_registered"] = rec.NumRegisteredImages();
-  j["points3D"] = rec.points3D().size();
-  j["observations"] = rec.NumObservations();
-  j["mean_track_length"] = rec.MeanTrackLength();
-  j["rms_reprojection_error_px"] = rec.RmsReprojectionError();
-  j["mean_reprojection_error_px"] = rec.MeanReprojectionError();
-  nlohmann::json images = nlohmann::json::array();
-  for (const auto& [id, image] : rec.images()) {
-    nlohmann::json im;
-    im["image_id"] = id;
-    im["name"] = image.name;
-    im["registered"] = image.registered;
-    if (image.registered) {
-      const Camera& c = rec.camera(image.camera_id);
-      im["camera_id"] = image.camera_id;
-      im["focal_px"] = c.focal();
-      im["aspect"] = c.params[Camera::kAspect];
-      im["skew"] = c.params[Camera::kSkew];
-      im["principal_point"] = {c.params[Camera::kU0], c.params[Camera::kV0]};
-      im["k1"] = c.params[Camera::kK1];
-      im["k2"] = c.params[Camera::kK2];
-      im["num_points3D"] = image.NumPoints3D();
-      const Eigen::Vector3d center = image.Center();
-      im["center"] = {center.x(), center.y(), center.z()};
-    }
-    images.push_back(im);
-  }
-  j["images"] = images;
-  return j;
+// Up to ten image names, then "...".
+std::string SomeNames(const std::vector<std::string>& names) {
+  std::string text;
+  for (size_t i = 0; i < names.size() && i < 10; ++i) text += (i ? ", " : "") + names[i];
+  return names.size() > 10 ? text + ", ..." : text;
 }
+
+// One line per model (the single-model line when there is one, else with the model's images),
+// and a warning naming the images no model holds, each one's reason on a line of its own.
+void LogModels(const MultiModelResult& built, size_t num_images, double seconds) {
+  for (size_t k = 0; k < built.models.size(); ++k) {
+    const Reconstruction& rec = built.models[k].reconstruction;
+    std::vector<std::string> names;
+    for (const image_t id : rec.RegisteredImageIds()) names.push_back(rec.image(id).name);
+    info("map: {}{}/{} images registered, {} points, RMS {:.3f} px{}",
+         built.models.size() > 1 ? fmt::format("model {}: ", k) : "", rec.NumRegisteredImages(),
+         num_images, rec.points3D().size(), rec.RmsReprojectionError(),
+         built.models.size() > 1 ? " (" + SomeNames(names) + ")"
+                                 : fmt::format(", {:.2f} s", seconds));
+  }
+  if (built.unmodelled.empty()) return;
+  // The first model built holds every image (multi_model_mapper.h).
+  const auto first = std::find_if(built.models.begin(), built.models.end(),
+                                  [](const MapperModel& m) { return m.build_order == 0; });
+  std::vector<std::string> names;
+  for (const UnmodelledImage& u : built.unmodelled)
+    names.push_back(first->reconstruction.image(u.image_id).name);
+  warn("map: {} of {} images are in no model: {}", names.size(), num_images, SomeNames(names));
+  for (size_t i = 0; i < names.size(); ++i)
+    info("map: {} is in no model: {}", names[i], built.unmodelled[i].reason);
+}
+
+}  // namespace
 
 MapResult RunMapping(const MapOptions& options) {
   Timer total;
@@ -208,27 +206,29 @@ MapResult RunMapping(const MapOptions& options) {
     colors =
         std::async(std::launch::async, SampleKeypointColors, options.image_dir, std::move(images));
   }
-  MapResult result;
-  result.reconstruction = std::move(ws.reconstruction);
-
   IncrementalMapperOptions mapper_options = options.mapper;
   if (options.sharing == IntrinsicsSharing::kFocalPerImage)
     mapper_options.share_all_but_focal = true;
-  Progress progress("map", result.reconstruction.images().size());
+  const size_t num_images = ws.reconstruction.images().size();
+  Progress progress("map", num_images);
   size_t shown = 0;
   mapper_options.progress = [&](size_t registered, size_t, double rms) {
     progress.Tick(registered - shown, fmt::format("registered, RMS {:.3f} px", rms));
     shown = registered;
   };
-  IncrementalMapper mapper(ws.graph, ws.planar_pairs, mapper_options);
   Timer mapping;
-  result.mapper = mapper.Reconstruct(&result.reconstruction);
+  MultiModelResult built =
+      ReconstructAllModels(ws.reconstruction, ws.graph, ws.planar_pairs, mapper_options);
+  MapResult result;
   result.seconds_mapping = mapping.Seconds();
   progress.Finish();
-  if (!result.mapper.success) Fail("map: {}", result.mapper.message);
+  if (built.models.empty()) Fail("map: {}", built.message);
 
-  Reconstruction& rec = result.reconstruction;
-  if (colors.valid()) ColorPoints(colors.get(), &rec);
+  if (colors.valid()) {
+    const KeypointColors keypoint_colors = colors.get();
+    for (MapperModel& model : built.models) ColorPoints(keypoint_colors, &model.reconstruction);
+  }
+  const Reconstruction& rec = built.models.front().reconstruction;
   // COLMAP's mapper's layout, OUT/sparse/0, 1, ...: tools that read a COLMAP project find it.
   const auto sparse = options.output / "sparse" / "0";
   // The four outputs are independent readers of the model: written side by side (bundler/ET's
@@ -238,42 +238,52 @@ MapResult RunMapping(const MapOptions& options) {
   // each rename their own files into it (WriteFilesAtomically) rather than race to rename a
   // whole folder there.
   std::filesystem::create_directories(sparse);
-  const Reconstruction& model = rec;
   std::future<void> text =
-      std::async(std::launch::async, [&] { WriteColmapModel(model, sparse, {.binary = false}); });
+      std::async(std::launch::async, [&] { WriteColmapModel(rec, sparse, {.binary = false}); });
   std::future<void> bundler = std::async(std::launch::async, [&] {
-    WriteBundler(model, options.output / "bundle.out", options.output / "list.txt");
+    WriteBundler(rec, options.output / "bundle.out", options.output / "list.txt");
   });
-  WriteColmapModel(model, sparse, {.binary = true});
-  WritePly(model, options.output / "sparse.ply");
+  WriteColmapModel(rec, sparse, {.binary = true});
+  WritePly(rec, options.output / "sparse.ply");
   text.get();
   bundler.get();
-  RemoveStaleModels(options.output / "sparse", 1);
+  for (size_t k = 1; k < built.models.size(); ++k)
+    for (const bool binary : {false, true})
+      WriteColmapModel(built.models[k].reconstruction,
+                       options.output / "sparse" / std::to_string(k), {.binary = binary});
+  RemoveStaleModels(options.output / "sparse", built.models.size());
   result.seconds = total.Seconds();
 
-  nlohmann::json summary = ReconstructionSummaryJson(rec);
+  nlohmann::json summary = MapSummaryJson(built.models, built.unmodelled);
+  const MapperSummary& mapper = built.models.front().summary;
   summary["seconds"] = {{"map_total", result.seconds},
                         {"mapping", result.seconds_mapping},
-                        {"initialization", result.mapper.seconds_initialization},
-                        {"registration", result.mapper.seconds_registration},
-                        {"triangulation", result.mapper.seconds_triangulation},
-                        {"local_ba", result.mapper.seconds_local_ba},
-                        {"global_ba", result.mapper.seconds_global_ba}};
-  summary["initial_pair"] = {result.mapper.initial_image_id1, result.mapper.initial_image_id2};
-  summary["initial_calibration_degenerate"] = result.mapper.initial_calibration_degenerate;
+                        {"initialization", mapper.seconds_initialization},
+                        {"registration", mapper.seconds_registration},
+                        {"triangulation", mapper.seconds_triangulation},
+                        {"local_ba", mapper.seconds_local_ba},
+                        {"global_ba", mapper.seconds_global_ba}};
+  summary["initial_pair"] = {mapper.initial_image_id1, mapper.initial_image_id2};
+  summary["initial_calibration_degenerate"] = mapper.initial_calibration_degenerate;
   // Degenerate pairs that took the prior: the scale of it the third view chose (1: the prior).
-  if (result.mapper.initial_focal_from_prior)
-    summary["initial_focal_prior_scale"] = result.mapper.initial_focal_scale;
-  summary["local_bundle_adjustments"] = result.mapper.num_local_ba;
-  summary["global_bundle_adjustments"] = result.mapper.num_global_ba;
-  summary["global_bundle_adjustment_iterations"] = result.mapper.num_global_ba_iterations;
+  if (mapper.initial_focal_from_prior)
+    summary["initial_focal_prior_scale"] = mapper.initial_focal_scale;
+  summary["local_bundle_adjustments"] = mapper.num_local_ba;
+  summary["global_bundle_adjustments"] = mapper.num_global_ba;
+  summary["global_bundle_adjustment_iterations"] = mapper.num_global_ba_iterations;
   // Where the photos are, so that later commands (export) need not be told again.
   if (!options.image_dir.empty())
     summary["image_dir"] = std::filesystem::absolute(options.image_dir).string();
   std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
-  info("map: {}/{} images registered, {} points, RMS {:.3f} px, {:.2f} s",
-       rec.NumRegisteredImages(), rec.images().size(), rec.points3D().size(),
-       rec.RmsReprojectionError(), result.seconds);
+  LogModels(built, num_images, result.seconds);
+  if (built.models.size() > 1)
+    info("map: {} models in {}/sparse/0 .. {}, {:.2f} s", built.models.size(),
+         options.output.string(), built.models.size() - 1, result.seconds);
+  result.mapper = mapper;
+  result.reconstruction = std::move(built.models.front().reconstruction);
+  result.more_models.assign(std::make_move_iterator(built.models.begin() + 1),
+                            std::make_move_iterator(built.models.end()));
+  result.unmodelled = std::move(built.unmodelled);
   return result;
 }
 

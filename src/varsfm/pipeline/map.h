@@ -7,8 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "varsfm/pipeline/map_summary.h"
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/sfm/incremental_mapper.h"
+#include "varsfm/sfm/multi_model_mapper.h"
 
 namespace varsfm {
 
@@ -28,8 +30,13 @@ struct MapOptions {
 };
 
 struct MapResult {
+  // Model 0 (OUT/sparse/0, the one the other outputs describe): the largest.
   MapperSummary mapper;
   Reconstruction reconstruction;
+  // Models 1, 2, ... (OUT/sparse/1, ...): of the images model 0 could not register, as COLMAP's
+  // mapper builds them (sfm/multi_model_mapper.h); and the images in no model, with why.
+  std::vector<MapperModel> more_models;
+  std::vector<UnmodelledImage> unmodelled;
   double seconds = 0;  // the whole stage: loading, mapping, writing
   double seconds_mapping = 0;
 };
@@ -38,8 +45,5 @@ struct MapResult {
 // workspace is missing or holds fewer than two images with features, or when no pair can
 // initialise: nothing is written in that case (an existing OUT is left as it was).
 MapResult RunMapping(const MapOptions& options);
-
-// The content of summary.json for a reconstruction (stage timings are added by the caller).
-nlohmann::json ReconstructionSummaryJson(const Reconstruction& reconstruction);
 
 }  // namespace varsfm

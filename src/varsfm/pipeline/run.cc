@@ -67,8 +67,10 @@ RunResult RunAll(const RunOptions& options) {
   summary["matching_strategy"] = match.strategy;
   std::ofstream(summary_path) << summary.dump(2) << "\n";
 
-  info("run: wrote {}/sparse/0 (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
-       options.output.string());
+  // Unconnected images give further models (sparse/1, ...); the later stages use model 0.
+  const size_t num_models = 1 + result.map.more_models.size();
+  info("run: wrote {}/sparse/{} (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
+       options.output.string(), num_models > 1 ? fmt::format("0 .. {}", num_models - 1) : "0");
 
   // Dense cloud, surface and texture, each stage's time added to the summary as it ends.
   const auto add_seconds = [&](const char* stage, double seconds) {
