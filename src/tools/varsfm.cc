@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
         ->required();
     CLI::Option_group* input = cmd->add_option_group("input", "exactly one of --images, --video");
     input->add_option("--images", extract.image_dir, "image folder (searched recursively)");
-    input->add_option("--video", extract.video, "video; keyframes go to <workspace>_frames/");
+    input->add_option("--video", extract.video,
+                      "video; keyframes go to <workspace>_frames/<video name>/");
     input->require_option(1);
     cmd->add_option("--max-features", extract.sift.max_features, "strongest features kept")
         ->capture_default_str()

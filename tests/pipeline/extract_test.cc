@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -254,9 +255,9 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
 }
 
 // A video panning across a textured scene, with blurred frames at `blurred`.
-void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred) {
+void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred, int seed = 5) {
   cv::Mat scene(360, 480 + 10 * frames, CV_8UC3, cv::Scalar(120, 120, 120));
-  cv::RNG rng(5);
+  cv::RNG rng(seed);
   for (int i = 0; i < 500; ++i) {
     const cv::Point center(rng.uniform(0, scene.cols), rng.uniform(0, scene.rows));
     cv::circle(scene, center, rng.uniform(3, 25),
@@ -290,8 +291,8 @@ TEST(ExtractCommand, VideoKeyframesAreExtractedAndBlurredFramesDropped) {
   EXPECT_LE(images.size(), 8u);
   for (const DbImage& image : images) {
     SCOPED_TRACE(image.name);
-    ASSERT_EQ(image.name.rfind("frame_", 0), 0u);
-    EXPECT_EQ(blurred.count(std::stoi(image.name.substr(6, 6))), 0u);
+    ASSERT_EQ(image.name.rfind("pan/frame_", 0), 0u);  // a folder per video
+    EXPECT_EQ(blurred.count(std::stoi(image.name.substr(10, 6))), 0u);
     EXPECT_TRUE(fs::is_regular_file(frames / image.name));
     EXPECT_GT(db.ReadKeypoints(image.image_id).size(), 100u);
     // Keyframes carry no EXIF: COLMAP's default focal 1.2 * max(w, h).
@@ -299,6 +300,53 @@ TEST(ExtractCommand, VideoKeyframesAreExtractedAndBlurredFramesDropped) {
     EXPECT_FALSE(camera->has_prior_focal_length);
     EXPECT_EQ(camera->params, (std::vector<double>{576.0, 240.0, 180.0, 0.0}));
   }
+}
+
+// Two videos in one workspace keep their own frames (both number theirs frame_NNNNNN.jpg), also
+// when their files have the same name; extracting one of them again is a resume.
+TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
+  TempDir dir("extract_two_videos");
+  fs::create_directories(dir.path() / "other");
+  WritePanVideo(dir.path() / "pan.avi", 20, {});
+  WritePanVideo(dir.path() / "walk.avi", 20, {}, 9);
+  WritePanVideo(dir.path() / "other" / "pan.avi", 20, {}, 13);
+  const fs::path workspace = dir.path() / "ws.db";
+  const fs::path frames = VideoFramesDir(workspace);
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(dir.path() / "pan.avi")), &out), 0)
+      << out;
+  std::map<std::string, std::string> first_files;
+  for (const DbImage& image : Database(workspace).ReadAllImages()) {
+    first_files[image.name] = FileBytes(frames / image.name);
+  }
+  ASSERT_GE(first_files.size(), 2u);
+
+  for (const fs::path video : {dir.path() / "walk.avi", dir.path() / "other" / "pan.avi"}) {
+    ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video)), &out), 0) << out;
+  }
+  std::map<std::string, size_t> per_video;
+  {
+    Database db(workspace);
+    for (const DbImage& image : db.ReadAllImages()) {
+      ++per_video[image.name.substr(0, image.name.find('/'))];
+      EXPECT_TRUE(fs::is_regular_file(frames / image.name)) << image.name;
+    }
+  }
+  EXPECT_EQ(per_video.size(), 3u);
+  EXPECT_EQ(per_video["pan"], first_files.size());
+  EXPECT_GE(per_video["walk"], 2u);
+  EXPECT_GE(per_video["pan_2"], 2u);  // the other pan.avi
+  for (const auto& [name, bytes] : first_files) {
+    EXPECT_TRUE(FileBytes(frames / name) == bytes) << name << " overwritten";
+  }
+
+  const size_t total = per_video["pan"] + per_video["walk"] + per_video["pan_2"];
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(dir.path() / "pan.avi")), &out), 0)
+      << out;
+  EXPECT_NE(out.find(fmt::format("{0} of {0} images already extracted", first_files.size())),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(Database(workspace).NumImages(), total);
 }
 
 // Bad input: a one-line error, a non-zero exit, and the workspace untouched (or not created).

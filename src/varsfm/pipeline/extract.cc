@@ -16,6 +16,7 @@
 #include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
 #include "varsfm/io/result_settings.h"
+#include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/progress.h"
@@ -83,7 +84,8 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
     if (input.names.empty()) Fail("no image files in {}", options.image_dir.string());
   } else {
     input.dir = VideoFramesDir(options.workspace);
-    KeyframeSummary keyframes = ExtractKeyframes(options.video, input.dir, options.keyframes);
+    KeyframeSummary keyframes =
+        ExtractVideoFrames(options.workspace, options.video, options.keyframes);
     summary.video_frames = keyframes.frames_read;
     summary.video_blurred = keyframes.frames_blurred;
     info("video {}: {} frames, {} blurred, {} keyframes in {}", options.video.string(),
@@ -297,10 +299,6 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
 }
 
 }  // namespace
-
-fs::path VideoFramesDir(const fs::path& workspace) {
-  return workspace.parent_path() / (workspace.stem().string() + "_frames");
-}
 
 ExtractSummary RunExtraction(const ExtractOptions& options) {
   Timer timer;

@@ -6,13 +6,14 @@
 
 #include "varsfm/feature/sift.h"
 #include "varsfm/image/video_keyframes.h"
+#include "varsfm/pipeline/video_frames.h"
 
 namespace varsfm {
 
 struct ExtractOptions {
   std::filesystem::path workspace;
-  // Exactly one of the two: a folder of images, or a video whose keyframes are written to
-  // VideoFramesDir(workspace) and extracted from there.
+  // Exactly one of the two: a folder of images, or a video whose keyframes are written to its
+  // folder under VideoFramesDir(workspace) (pipeline/video_frames.h) and extracted from there.
   std::filesystem::path image_dir;
   std::filesystem::path video;
   SiftOptions sift;
@@ -33,9 +34,6 @@ struct ExtractSummary {
   size_t video_blurred = 0;         // of which dropped as blurred
   double seconds = 0;
 };
-
-// Where the keyframes of a video go: <workspace dir>/<workspace stem>_frames.
-std::filesystem::path VideoFramesDir(const std::filesystem::path& workspace);
 
 // Runs the extraction. Inputs are validated before the workspace is opened: a missing path, an
 // empty folder or no readable image throws varsfm::Error and leaves the workspace file as it was

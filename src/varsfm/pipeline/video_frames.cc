@@ -1,0 +1,91 @@
+#include "varsfm/pipeline/video_frames.h"
+
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kIdentityFile = "video.txt";
+constexpr std::streamoff kFingerprintBytes = 1 << 16;  // hashed at each end of the file
+
+// FNV-1a, 64 bits, continued over `data`.
+uint64_t Fnv1a(uint64_t hash, const char* data, std::streamsize size) {
+  for (std::streamsize i = 0; i < size; ++i) {
+    hash ^= static_cast<unsigned char>(data[i]);
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+// The video's size and a hash of its first and last 64 KiB: the same file gives the same text
+// wherever it lies, another video (even re-encoded from the same one) almost surely not.
+std::string Fingerprint(const fs::path& video) {
+  std::ifstream file(video, std::ios::binary | std::ios::ate);
+  if (!file) Fail("cannot read video {}", video.string());
+  const std::streamoff size = file.tellg();
+  std::array<char, kFingerprintBytes> buffer;
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const std::streamoff start :
+       {std::streamoff{0}, std::max<std::streamoff>(0, size - kFingerprintBytes)}) {
+    file.seekg(start);
+    file.read(buffer.data(), kFingerprintBytes);
+    hash = Fnv1a(hash, buffer.data(), file.gcount());
+    file.clear();
+  }
+  return fmt::format("{} bytes, fnv1a {:016x}", size, hash);
+}
+
+std::string ReadIdentity(const fs::path& folder) {
+  std::ifstream file(folder / kIdentityFile);
+  std::string line;
+  std::getline(file, line);
+  return line;
+}
+
+}  // namespace
+
+fs::path VideoFramesDir(const fs::path& workspace) {
+  return workspace.parent_path() / (workspace.stem().string() + "_frames");
+}
+
+KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& video,
+                                   const KeyframeOptions& options) {
+  std::error_code ec;
+  if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
+  const fs::path frames = VideoFramesDir(workspace);
+  const std::string identity = Fingerprint(video);
+  const std::string stem = video.stem().string();
+  std::string name = stem;
+  for (int k = 2; fs::exists(frames / name, ec) && ReadIdentity(frames / name) != identity; ++k) {
+    name = fmt::format("{}_{}", stem, k);
+  }
+  const fs::path folder = frames / name;
+  const bool created = !fs::exists(folder, ec);
+  KeyframeSummary summary;
+  try {
+    fs::create_directories(folder, ec);
+    if (ec) Fail("cannot create folder {}: {}", folder.string(), ec.message());
+    if (created) {
+      std::ofstream(folder / kIdentityFile) << identity << "\n"
+                                            << fs::absolute(video).string() << "\n";
+    }
+    summary = ExtractKeyframes(video, folder, options);
+  } catch (...) {
+    if (created) fs::remove_all(folder, ec);
+    if (fs::is_empty(frames, ec)) fs::remove(frames, ec);
+    throw;
+  }
+  for (std::string& keyframe : summary.names) keyframe = name + "/" + keyframe;
+  return summary;
+}
+
+}  // namespace varsfm
