@@ -5,7 +5,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libceres-dev libsuitesparse-dev libopencv-dev
       libsqlite3-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
       libgtest-dev libgmock-dev libbenchmark-dev ffmpeg libexif-dev libcgal-dev
-      libtinygltf-dev libopenblas0-serial libturbojpeg0-dev libpng-dev)
+      libtinygltf-dev libopenblas0-serial libturbojpeg0-dev libpng-dev libopen3d-dev)
 # libopenblas0-serial becomes the system BLAS/LAPACK (Debian's alternatives): SuiteSparse's
 # supernodal Cholesky, the sparse bundle adjustment above 250 images, runs on it (a 200-image
 # final global BA: 7.6 s with the reference BLAS/ATLAS, 5.4 s); serial, so still reproducible.

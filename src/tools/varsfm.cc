@@ -303,9 +303,18 @@ int main(int argc, char** argv) {
     cmd->add_option_function<std::string>(
            "--method",
            [&mesh](const std::string& m) { mesh.surface.method = varsfm::ParseSurfaceMethod(m); },
-           "poisson (default) | afront")
+           "poisson (screened, default) | afront")
         ->check(CLI::IsMember({"poisson", "afront"}));
-    cmd->add_option("--max-points", mesh.surface.max_points, "downsample above this many points")
+    cmd->add_option("--max-depth", mesh.surface.max_depth,
+                    "screened Poisson: largest octree depth (the depth follows the cloud)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16));
+    cmd->add_option("--threads", mesh.surface.num_threads,
+                    "screened Poisson threads (the mesh is reproducible for a fixed count)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--max-points", mesh.surface.max_points,
+                    "afront: downsample above this many points")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     cmd->add_option("--trim", mesh.surface.trim_factor,

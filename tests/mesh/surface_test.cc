@@ -137,35 +137,42 @@ TEST(Surface, AdvancingFrontInterpolatesTheData) {
 }
 
 TEST(Surface, PoissonIsDeterministic) {
-  // CGAL's mesher draws its start points from a time-seeded generator (reseeded in
-  // surface.cc); the same cloud must give the same mesh, also twice in one process.
+  // Screened Poisson runs single-threaded by default: the same cloud gives the same mesh bit
+  // for bit, also twice in one process.
   const PointCloud cloud = Sphere(2000, -0.3);
-  // Within one process the order of vertices and faces follows CGAL's memory layout, so the
-  // meshes are compared as sets of oriented triangles by their corner coordinates.
-  const auto triangles = [](const TriangleMesh& mesh) {
-    std::vector<std::array<double, 9>> out;
-    for (const Eigen::Vector3i& f : mesh.faces) {
-      std::array<std::array<double, 3>, 3> c;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3d& v = mesh.vertices[f[k]];
-        c[k] = {v.x(), v.y(), v.z()};
-      }
-      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());  // keeps orientation
-      out.push_back(
-          {c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  };
   const TriangleMesh a = ReconstructSurface(cloud, {});
   const TriangleMesh b = ReconstructSurface(cloud, {});
   ASSERT_FALSE(a.faces.empty());
-  EXPECT_EQ(triangles(a), triangles(b));
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_EQ(a.colors, b.colors);
 }
 
-TEST(Surface, LargeCloudsAreDownsampledToTheLimit) {
+TEST(Surface, ScreenedPoissonDepthFollowsTheCloud) {
+  // The same sphere sampled 4x denser halves the spacing: one octree level deeper.
+  SurfaceOptions options;
+  options.min_depth = 1;  // the default floor would hold both
+  SurfaceStats coarse, fine;
+  ReconstructSurface(Sphere(4000), options, &coarse);
+  ReconstructSurface(Sphere(16000), options, &fine);
+  EXPECT_EQ(fine.depth, coarse.depth + 1);
+  EXPECT_EQ(fine.used_points, 16000u);  // every point, no downsampling
+}
+
+TEST(Surface, ScreenedPoissonPassesTheMeshCheck) {
+  SurfaceStats stats;
+  // Dense enough that half a spacing is well under 0.5 % of the extent.
+  const TriangleMesh mesh = ReconstructSurface(Sphere(40000, -0.5), {}, &stats);
+  EXPECT_EQ(stats.quality.num_faces, mesh.faces.size());
+  EXPECT_EQ(stats.quality.num_points, stats.input_points);
+  EXPECT_LT(stats.quality.RelativeDistance(), 0.005);
+  EXPECT_GT(stats.quality.median_distance, 0);
+}
+
+TEST(Surface, AdvancingFrontDownsamplesLargeCloudsToTheLimit) {
   const PointCloud cloud = Sphere(50000);
   SurfaceOptions options;
+  options.method = SurfaceMethod::kAdvancingFront;
   options.max_points = 5000;
   SurfaceStats stats;
   const TriangleMesh mesh = ReconstructSurface(cloud, options, &stats);
@@ -189,18 +196,18 @@ TEST(Surface, BadInputGivesOneLineErrorNamingTheFile) {
       EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     }
   };
-  expect_error(dir.path() / "missing.ply", SurfaceMethod::kPoisson, "no such");
+  expect_error(dir.path() / "missing.ply", SurfaceMethod::kScreenedPoisson, "no such");
 
   const auto empty = dir.path() / "empty.ply";
   std::ofstream(empty) << "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
                           "property float y\nproperty float z\nend_header\n";
-  expect_error(empty, SurfaceMethod::kPoisson, "empty");
+  expect_error(empty, SurfaceMethod::kScreenedPoisson, "empty");
 
   PointCloud no_normals = Sphere(100);
   no_normals.normals.clear();
   const auto bare = dir.path() / "bare.ply";
   WritePly(bare, no_normals);
-  expect_error(bare, SurfaceMethod::kPoisson, "normals");
+  expect_error(bare, SurfaceMethod::kScreenedPoisson, "normals");
   EXPECT_EQ(ReadSurfaceInput(bare, SurfaceMethod::kAdvancingFront).points.size(), 100u);
 
   EXPECT_THROW(ReconstructSurface(Sphere(5), {}), Error);

@@ -88,14 +88,43 @@ TEST(Texture, UnseenFacesKeepTheirVertexColour) {
   // The only view looks away from the scene, so no face is textured from a photo.
   const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
   TextureStats stats;
+  TextureOptions options;
+  options.min_mean_coverage = 0;  // the coverage check would stop it (next test)
   const TexturedMesh textured = TextureMesh(
-      mesh, {away}, [&](size_t) { return scene.images[0]; }, {}, &stats);
+      mesh, {away}, [&](size_t) { return scene.images[0]; }, options, &stats);
   EXPECT_EQ(stats.num_textured_faces, 0u);
+  EXPECT_EQ(stats.mean_coverage, 0);
   const Rendering r = RenderTexturedMesh(textured, scene.cameras[1], scene.poses[1]);
   ASSERT_GT(cv::countNonZero(r.mask), 0);
   for (int y = 0; y < r.image.rows; ++y)
     for (int x = 0; x < r.image.cols; ++x)
       if (r.mask.at<uchar>(y, x)) ASSERT_EQ(r.image.at<cv::Vec3b>(y, x), cv::Vec3b(10, 40, 200));
+}
+
+TEST(Texture, AMeshThePhotosDoNotShowIsAnError) {
+  RenderedSceneOptions o;
+  o.num_images = 2;
+  o.width = 160;
+  o.height = 120;
+  o.focal_start = 128;
+  o.supersampling = 1;
+  const RenderedScene scene = RenderSyntheticScene(o);
+  const TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
+  const auto load = [&](size_t v) { return scene.images[v]; };
+  // From the scene's own cameras the mesh fills much of each photo.
+  TextureStats stats;
+  TextureMesh(mesh, {{scene.cameras[0], scene.poses[0]}, {scene.cameras[1], scene.poses[1]}},
+              load, {}, &stats);
+  EXPECT_GT(stats.mean_coverage, 0.2);
+  // A view looking away sees none of it: one line naming the coverage.
+  const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
+  try {
+    TextureMesh(mesh, {away}, load);
+    ADD_FAILURE() << "no error for a mesh no photo shows";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("covers 0.00 % of the photos"), std::string::npos) << message;
+  }
 }
 
 TEST(Texture, EmptyMeshOrNoViewsIsAnError) {

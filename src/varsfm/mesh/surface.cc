@@ -1,31 +1,17 @@
 #include "varsfm/mesh/surface.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <iterator>
-#include <utility>
+#include <optional>
 
-#include <CGAL/Advancing_front_surface_reconstruction.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Random.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/poisson_surface_reconstruction.h>
-#include <CGAL/property_map.h>
-
+#include "varsfm/mesh/advancing_front.h"
 #include "varsfm/mesh/point_grid.h"
+#include "varsfm/mesh/screened_poisson.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
 namespace varsfm {
 namespace {
-
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using CgalPoint = Kernel::Point_3;
-using CgalVector = Kernel::Vector_3;
-using CgalMesh = CGAL::Surface_mesh<CgalPoint>;
-
-CgalPoint ToCgal(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
 // Downsamples with a growing voxel until at most max_points remain. Points sample surfaces, so
 // the count falls about as the square of the voxel size: each step jumps by that estimate
@@ -42,75 +28,28 @@ PointCloud LimitPoints(const PointCloud& cloud, size_t max_points) {
   return reduced;
 }
 
-TriangleMesh Poisson(const PointCloud& cloud, double spacing, const SurfaceOptions& options) {
-  std::vector<std::pair<CgalPoint, CgalVector>> oriented;
-  oriented.reserve(cloud.points.size());
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    const Eigen::Vector3d& n = cloud.normals[i];
-    oriented.emplace_back(ToCgal(cloud.points[i]), CgalVector(n.x(), n.y(), n.z()));
+// The octree depth whose finest cells over the points' bounding cube (enlarged 1.1x, as the
+// reconstruction does) are about cell_spacing x spacing wide, clamped. The octree is refined
+// only around the samples, so a cube inflated by a few far outliers costs depth, not memory.
+int ChooseDepth(const PointCloud& cloud, double spacing, const SurfaceOptions& options) {
+  Eigen::Vector3d lo = cloud.points[0], hi = cloud.points[0];
+  for (const Eigen::Vector3d& p : cloud.points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
   }
-  CgalMesh surface;
-  using Pair = std::pair<CgalPoint, CgalVector>;
-  // CGAL's surface mesher starts from random points drawn from CGAL::get_default_random(),
-  // a thread-local generator seeded with the time of day: reseed it, so the mesh no longer
-  // changes from run to run (it did, by ~1 % of the faces on fountain-P11). Known remainder:
-  // the mesher also orders work by handle addresses, and its large blocks are mmap'ed at
-  // addresses that address-space randomisation changes per run, so a run can still differ by
-  // a few tenths of a percent of the faces.
-  CGAL::get_default_random() = CGAL::Random(0);
-  const bool ok = CGAL::poisson_surface_reconstruction_delaunay(
-      oriented.begin(), oriented.end(), CGAL::First_of_pair_property_map<Pair>(),
-      CGAL::Second_of_pair_property_map<Pair>(), surface, spacing, /*sm_angle=*/20.0,
-      /*sm_radius=*/30.0, options.approximation_distance);
-  if (!ok || surface.number_of_faces() == 0) Fail("Poisson surface reconstruction failed");
-
-  TriangleMesh mesh;
-  std::vector<int> index(surface.number_of_vertices(), -1);
-  for (CgalMesh::Vertex_index v : surface.vertices()) {
-    index[v.idx()] = static_cast<int>(mesh.vertices.size());
-    const CgalPoint& p = surface.point(v);
-    mesh.vertices.emplace_back(p.x(), p.y(), p.z());
-  }
-  for (CgalMesh::Face_index f : surface.faces()) {
-    Eigen::Vector3i face;
-    int k = 0;
-    for (CgalMesh::Vertex_index v : CGAL::vertices_around_face(surface.halfedge(f), surface)) {
-      if (k < 3) face[k] = index[v.idx()];
-      ++k;
-    }
-    if (k == 3) mesh.faces.push_back(face);
-  }
-  return mesh;
+  const double cube = 1.1 * (hi - lo).maxCoeff();
+  const double cells = cube / (options.cell_spacing * spacing);
+  const int depth = static_cast<int>(std::lround(std::log2(std::max(cells, 1.0))));
+  return std::clamp(depth, options.min_depth, options.max_depth);
 }
 
-TriangleMesh AdvancingFront(const PointCloud& cloud) {
-  std::vector<CgalPoint> points;
-  points.reserve(cloud.points.size());
-  for (const auto& p : cloud.points) points.push_back(ToCgal(p));
-  std::vector<std::array<std::size_t, 3>> facets;
-  CGAL::advancing_front_surface_reconstruction(points.begin(), points.end(),
-                                               std::back_inserter(facets));
-  if (facets.empty()) Fail("advancing-front surface reconstruction produced no faces");
-  TriangleMesh mesh;
-  mesh.vertices = cloud.points;
-  for (const auto& f : facets) {
-    mesh.faces.emplace_back(static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2]));
-  }
-  // Orient faces like the input normals (advancing front orients consistently, but its global
-  // sign is arbitrary).
-  if (cloud.HasNormals()) {
-    double agreement = 0;
-    for (const Eigen::Vector3i& f : mesh.faces) {
-      const Eigen::Vector3d n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
-                                    .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-      agreement += n.dot(cloud.normals[f[0]] + cloud.normals[f[1]] + cloud.normals[f[2]]);
-    }
-    if (agreement < 0) {
-      for (Eigen::Vector3i& f : mesh.faces) std::swap(f[1], f[2]);
-    }
-  }
-  RemoveUnreferencedVertices(&mesh);
-  return mesh;
+// Drops the vertices (and their faces) whose sampling density is more than `levels` octree
+// levels below `depth`.
+void TrimByDensity(const std::vector<double>& densities, double min_density, TriangleMesh* mesh) {
+  std::erase_if(mesh->faces, [&](const Eigen::Vector3i& f) {
+    return densities[f[0]] < min_density || densities[f[1]] < min_density ||
+           densities[f[2]] < min_density;
+  });
 }
 
 // Removes faces with a vertex farther than max_distance from every input point and colours the
@@ -137,45 +76,77 @@ void TrimAndColour(const PointCloud& cloud, double max_distance, bool trim, Tria
 
 }  // namespace
 
+void SurfaceOptions::Check() const {
+  if (!(cell_spacing > 0)) Fail("surface: the cell spacing must be positive, not {}", cell_spacing);
+  if (min_depth < 1 || max_depth > 16 || min_depth > max_depth)
+    Fail("surface: octree depths must satisfy 1 <= min <= max <= 16, not {}..{}", min_depth,
+         max_depth);
+  if (!(density_trim_levels >= 0))
+    Fail("surface: the density trim must be >= 0 levels, not {}", density_trim_levels);
+  if (num_threads < 1) Fail("surface: threads must be >= 1, not {}", num_threads);
+  if (max_points < 10) Fail("surface: the point limit must be at least 10, not {}", max_points);
+  quality.Check();
+}
+
 PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method) {
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
   PointCloud cloud = ReadPly(file);
   if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
-  if (method == SurfaceMethod::kPoisson && !cloud.HasNormals()) {
+  if (method != SurfaceMethod::kAdvancingFront && !cloud.HasNormals()) {
     Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
   }
   return cloud;
 }
 
 SurfaceMethod ParseSurfaceMethod(const std::string& name) {
-  if (name == "poisson") return SurfaceMethod::kPoisson;
+  if (name == "poisson") return SurfaceMethod::kScreenedPoisson;
   if (name == "afront") return SurfaceMethod::kAdvancingFront;
   Fail("unknown surface method '{}' (poisson | afront)", name);
 }
 
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats) {
+  options.Check();
   if (cloud.points.size() < 10) {
     Fail("{} points are too few for a surface (need at least 10)", cloud.points.size());
   }
-  const bool poisson = options.method == SurfaceMethod::kPoisson;
+  const bool poisson = options.method != SurfaceMethod::kAdvancingFront;
   if (poisson && !cloud.HasNormals()) Fail("Poisson reconstruction needs point normals");
-  const PointCloud used = LimitPoints(cloud, options.max_points);
-  const double spacing = AverageNearestSpacing(used.points);
-  spdlog::info("surface: {} of {} points, average spacing {:.4g}", used.points.size(),
-               cloud.points.size(), spacing);
+  SurfaceStats local;
+  SurfaceStats& s = stats ? *stats : local;
+  s = {};
+  s.input_points = cloud.points.size();
 
-  TriangleMesh mesh = poisson ? Poisson(used, spacing, options) : AdvancingFront(used);
-  if (stats) {
-    stats->input_points = cloud.points.size();
-    stats->used_points = used.points.size();
-    stats->average_spacing = spacing;
-    stats->faces_before_trim = mesh.faces.size();
+  TriangleMesh mesh;
+  double spacing = 0;
+  if (options.method == SurfaceMethod::kScreenedPoisson) {
+    spacing = AverageNearestSpacing(cloud.points);
+    s.used_points = cloud.points.size();
+    s.depth = ChooseDepth(cloud, spacing, options);
+    spdlog::info("surface: screened Poisson on {} points, average spacing {:.4g}, depth {}",
+                 cloud.points.size(), spacing, s.depth);
+    ScreenedPoissonSurface surface =
+        ReconstructScreenedPoisson(cloud, s.depth, options.num_threads);
+    mesh = std::move(surface.mesh);
+    s.faces_before_trim = mesh.faces.size();
+    if (options.density_trim_levels > 0)
+      TrimByDensity(surface.densities, s.depth - options.density_trim_levels, &mesh);
+  } else {
+    const PointCloud used = LimitPoints(cloud, options.max_points);
+    spacing = AverageNearestSpacing(used.points);
+    s.used_points = used.points.size();
+    spdlog::info("surface: {} of {} points, average spacing {:.4g}", used.points.size(),
+                 cloud.points.size(), spacing);
+    mesh = ReconstructAdvancingFront(used);
+    s.faces_before_trim = mesh.faces.size();
   }
+  s.average_spacing = spacing;
   const bool trim = poisson && options.trim_factor > 0;
   const double reach = (trim ? options.trim_factor : 3.0) * spacing;
   TrimAndColour(cloud, reach, trim, &mesh);
   if (mesh.faces.empty()) Fail("surface reconstruction left no faces after trimming");
+  s.quality = MeasureMeshQuality(mesh, cloud.points, spacing);
+  CheckMeshQuality(s.quality, options.quality);
   return mesh;
 }
 

@@ -1,41 +1,67 @@
 #pragma once
-// Surface reconstruction from a dense point cloud: Poisson (Kazhdan, Bolitho, Hoppe 2006, as
-// CGAL implements it: implicit function solved on a refined Delaunay triangulation, contoured by
-// Delaunay surface meshing) or advancing-front (Cohen-Steiner & Da 2004; like the 3D Crust the
-// paper uses, it picks faces of the points' Delaunay triangulation, so vertices are data points).
+// Surface reconstruction from a dense oriented point cloud. Default: screened Poisson (Kazhdan &
+// Hoppe 2013, screened_poisson.h) at an octree depth chosen from the cloud's size over its point
+// spacing, on every point; then trimmed where the surface leaves the data (by the sampling
+// density the reconstruction reports and by the distance to the nearest point). Advancing front
+// (advancing_front.h) stays selectable. Every result passes the mesh check (mesh_quality.h) or
+// the reconstruction fails with one line.
+//
+// CGAL's Poisson (the 2006 method), the former default, is gone: it crashed in
+// facets_in_complex_2_to_triangle_mesh on bundler/kermit's cloud, and on the outdoor clouds of
+// bundler/ET and sceaux it returned 116 and 155 faces from 322k and 1.04M points (its surface
+// mesher starts from one inner point of the implicit function and meshes what it reaches from
+// there). It also needed the cloud cut to 60,000 points to run in time.
 #include <filesystem>
 #include <string>
 
 #include "varsfm/io/ply.h"
+#include "varsfm/mesh/mesh_quality.h"
 #include "varsfm/mesh/triangle_mesh.h"
 
 namespace varsfm {
 
-enum class SurfaceMethod { kPoisson, kAdvancingFront };
+enum class SurfaceMethod { kScreenedPoisson, kAdvancingFront };
 
 struct SurfaceOptions {
-  SurfaceMethod method = SurfaceMethod::kPoisson;
-  // Voxel-grid downsampling before reconstruction when the cloud has more points than this
-  // (the voxel grows until it fits): CGAL's Poisson cost grows quickly with the point count.
+  SurfaceMethod method = SurfaceMethod::kScreenedPoisson;
+  // Screened Poisson: the finest octree cells are about cell_spacing x the average point
+  // spacing (dense points are noisier than their spacing, and each finest cell then holds a few
+  // samples, Kazhdan's samples-per-node), with the depth clamped to [min_depth, max_depth]:
+  // max_depth bounds memory and time (the octree's node count grows ~4x per level).
+  double cell_spacing = 2.0;
+  int min_depth = 6;
+  int max_depth = 12;
+  // Screened Poisson: vertices whose estimated sampling depth (screened_poisson.h) is more than
+  // this many levels below the octree depth, i.e. where samples are 2^this times sparser than
+  // at the finest cells, are removed with their faces: there the surface is interpolated over
+  // missing data.
+  double density_trim_levels = 3.0;
+  // Threads of the screened Poisson solver. Its parallel reductions sum in an order that
+  // depends on the thread count, so the mesh is bit-for-bit reproducible only for a fixed count.
+  int num_threads = 1;
+  // Advancing front only: voxel-grid downsampling above this many points (its Delaunay
+  // triangulation's cost grows quickly with the point count).
   size_t max_points = 60000;
-  // Poisson only: faces with a vertex farther than trim_factor x the average point spacing from
-  // every input point are removed, so the closed implicit surface does not balloon over holes.
-  // <= 0 keeps the whole surface.
+  // Screened Poisson: faces with a vertex farther than trim_factor x the average point spacing
+  // from every input point are removed, so the closed implicit surface does not balloon over
+  // holes. <= 0 keeps the whole surface.
   double trim_factor = 3.0;
-  // Poisson only: CGAL's surface-mesher approximation distance in units of the average spacing
-  // (smaller: finer, slower). CGAL's default is 0.375.
-  double approximation_distance = 0.375;
+  MeshQualityLimits quality;
+  void Check() const;  // throws varsfm::Error naming the first bad option
 };
 
 struct SurfaceStats {
   size_t input_points = 0;
-  size_t used_points = 0;  // after downsampling
+  size_t used_points = 0;  // after downsampling (advancing front)
   double average_spacing = 0;
+  int depth = 0;  // screened Poisson's octree depth
   size_t faces_before_trim = 0;
+  MeshQuality quality;  // of the final mesh against the input points
 };
 
-// Throws varsfm::Error when the cloud has too few points, lacks normals (Poisson), or the
-// reconstruction fails. Vertex colours come from the nearest input point when it has colours.
+// Throws varsfm::Error when the cloud has too few points, lacks normals (Poisson), the
+// reconstruction fails, or the mesh fails the check. Vertex colours come from the nearest input
+// point when it has colours.
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats = nullptr);
 
@@ -43,7 +69,7 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
 // is missing, unreadable, empty, or lacks normals that `method` needs.
 PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method);
 
-// "poisson" / "afront"; throws varsfm::Error for anything else.
+// "poisson" (screened) / "afront"; throws varsfm::Error for anything else.
 SurfaceMethod ParseSurfaceMethod(const std::string& name);
 
 }  // namespace varsfm

@@ -28,11 +28,22 @@ MeshCommandResult RunMesh(const MeshCommandOptions& options) {
   result.num_faces = mesh.faces.size();
   result.topology = ComputeEdgeTopology(mesh);
   result.seconds = timer.Seconds();
-  spdlog::info("mesh: {} vertices, {} faces ({} boundary, {} non-manifold edges) in {:.1f} s -> {}",
-               result.num_vertices, result.num_faces, result.topology.boundary_edges,
-               result.topology.non_manifold_edges, result.seconds,
-               (options.output / "mesh.ply").string());
+  const MeshQuality& q = result.stats.quality;
+  spdlog::info(
+      "mesh: {} vertices, {} faces ({} boundary, {} non-manifold edges), median distance to the "
+      "points {:.4g} = {:.3f} % of the extent {:.4g}, in {:.1f} s -> {}",
+      result.num_vertices, result.num_faces, result.topology.boundary_edges,
+      result.topology.non_manifold_edges, q.median_distance, 100 * q.RelativeDistance(), q.extent,
+      result.seconds, (options.output / "mesh.ply").string());
   return result;
+}
+
+nlohmann::json MeshSummary(const MeshCommandResult& result) {
+  const MeshQuality& q = result.stats.quality;
+  return {{"points", result.stats.input_points},       {"depth", result.stats.depth},
+          {"vertices", result.num_vertices},           {"faces", result.num_faces},
+          {"median_distance", q.median_distance},      {"extent", q.extent},
+          {"relative_distance", q.RelativeDistance()}, {"seconds", result.seconds}};
 }
 
 }  // namespace varsfm

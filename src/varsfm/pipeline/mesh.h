@@ -3,6 +3,8 @@
 // surface mesh with vertex colours out (OUT/mesh.ply), by mesh/surface.h.
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/triangle_mesh.h"
 
@@ -22,8 +24,12 @@ struct MeshCommandResult {
   double seconds = 0;
 };
 
-// Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, or
-// one without normals when the method is Poisson.
+// Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
+// without normals when the method is Poisson, or a mesh that fails the check (mesh_quality.h).
 MeshCommandResult RunMesh(const MeshCommandOptions& options);
+
+// The figures summary.json keeps of a mesh stage: points, octree depth, vertices, faces, median
+// vertex-to-point distance, the cloud's extent, their ratio and seconds.
+nlohmann::json MeshSummary(const MeshCommandResult& result);
 
 }  // namespace varsfm

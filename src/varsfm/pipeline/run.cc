@@ -92,7 +92,9 @@ RunResult RunAll(const RunOptions& options) {
     mesh.input = options.output / "dense.ply";
     mesh.output = options.output;
     mesh.surface = options.surface;
-    result.seconds_mesh = RunMesh(mesh).seconds;
+    const MeshCommandResult meshed = RunMesh(mesh);
+    result.seconds_mesh = meshed.seconds;
+    summary["mesh"] = MeshSummary(meshed);
     add_seconds("mesh", result.seconds_mesh);
   }
   if (runs("texture")) {
@@ -103,7 +105,11 @@ RunResult RunAll(const RunOptions& options) {
     texture.output = options.output;
     texture.texture = options.texture;
     texture.holdout = options.holdout;
-    result.seconds_texture = RunTexture(texture).seconds;
+    const TextureCommandResult textured = RunTexture(texture);
+    result.seconds_texture = textured.seconds;
+    summary["texture"] = {{"faces", textured.stats.num_faces},
+                          {"textured_faces", textured.stats.num_textured_faces},
+                          {"mean_coverage", textured.stats.mean_coverage}};
     add_seconds("texture", result.seconds_texture);
     if (options.holdout > 0) {
       RenderEvaluationOptions renders;

@@ -33,10 +33,10 @@ TextureCommandResult RunTexture(const TextureCommandOptions& options) {
   result.seconds = timer.Seconds();
   const TextureStats& s = result.stats;
   info(
-      "texture: {} of {} faces textured, {} charts, {} atlas page(s) ({:.1f} Mpx) in {:.1f} s "
-      "-> {}/textured/model.obj, model.glb",
-      s.num_textured_faces, s.num_faces, s.num_charts, s.num_pages, s.atlas_pixels / 1e6,
-      result.seconds, options.output.string());
+      "texture: {} of {} faces textured, the mesh covers {:.1f} % of the photos, {} charts, {} "
+      "atlas page(s) ({:.1f} Mpx) in {:.1f} s -> {}/textured/model.obj, model.glb",
+      s.num_textured_faces, s.num_faces, 100 * s.mean_coverage, s.num_charts, s.num_pages,
+      s.atlas_pixels / 1e6, result.seconds, options.output.string());
   return result;
 }
 

@@ -65,6 +65,12 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
 
   const ViewSelection selection = SelectViews(mesh.vertices, mesh.faces, views, options.selection);
   st.num_textured_faces = selection.num_visible_faces;
+  for (const double c : selection.coverage) st.mean_coverage += c / views.size();
+  if (st.mean_coverage < options.min_mean_coverage)
+    Fail(
+        "texture: the mesh covers {:.2f} % of the photos on average (at least {:.2f} % expected): "
+        "it is not the surface the photos show",
+        100 * st.mean_coverage, 100 * options.min_mean_coverage);
   std::vector<Chart> charts = GrowCharts(selection.labels, FaceNeighbours(mesh.faces));
   st.num_charts = charts.size();
   st.seconds_selection = timer.Seconds();

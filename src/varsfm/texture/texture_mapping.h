@@ -28,6 +28,10 @@ struct TextureOptions {
   int bleed_rings = 8;
   int max_page_size = 8192;
   cv::Vec3b unseen_color = {128, 128, 128};  // BGR, for unseen faces of a mesh without colours
+  // Texturing fails when the mesh covers less than this fraction of the photos' pixels on
+  // average: such a mesh is not the surface the photos show (a collapsed or misplaced mesh),
+  // and its textured model would be empty in every view.
+  double min_mean_coverage = 0.01;
 };
 
 struct TextureStats {
@@ -36,12 +40,14 @@ struct TextureStats {
   size_t num_charts = 0;
   size_t num_pages = 0;
   size_t atlas_pixels = 0;
+  double mean_coverage = 0;  // the mean over the views of the fraction of pixels the mesh covers
   double seconds_selection = 0;
   double seconds_atlas = 0;
 };
 
 // `load_image(v)` returns view v's photo (BGR, 8-bit, the camera's size). Throws varsfm::Error
-// for an empty mesh, no views, or a photo whose size differs from its camera.
+// for an empty mesh, no views, a mesh covering less than min_mean_coverage of the photos, or a
+// photo whose size differs from its camera.
 TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
                          const std::function<cv::Mat(size_t)>& load_image,
                          const TextureOptions& options = {}, TextureStats* stats = nullptr);

@@ -14,10 +14,12 @@ namespace varsfm {
 namespace {
 
 // Scores of every face in one view: projected area in full-resolution pixels where the face is
-// visible and well inside the image, 0 otherwise.
+// visible and well inside the image, 0 otherwise. `coverage`: the fraction of the view's
+// pixels the mesh covers.
 void ScoreView(const std::vector<Eigen::Vector3d>& vertices,
                const std::vector<Eigen::Vector3i>& faces, const TextureView& view,
-               const ViewSelectionOptions& options, float* scores /* stride: 1 per face */) {
+               const ViewSelectionOptions& options, float* scores /* stride: 1 per face */,
+               double* coverage) {
   const Camera& camera = view.camera;
   const double scale = std::min(
       1.0, options.max_raster_size / static_cast<double>(std::max(camera.width, camera.height)));
@@ -27,6 +29,9 @@ void ScoreView(const std::vector<Eigen::Vector3d>& vertices,
   std::vector<ProjectedVertex> small = full;
   for (ProjectedVertex& v : small) v.pixel *= scale;
   const FaceRaster raster = RasterizeFaces(small, faces, w, h);
+  *coverage = static_cast<double>(std::count_if(raster.face.begin(), raster.face.end(),
+                                                [](int32_t f) { return f >= 0; })) /
+              raster.face.size();
   // A point passes the depth test when the nearest surface around its raster pixel (the farthest
   // of a 3x3 neighbourhood, so points on an occluder's silhouette are not lost to rounding) is
   // not clearly in front of it.
@@ -92,14 +97,16 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   const size_t num_faces = faces.size(), num_views = views.size();
   // View-major so each view's task writes one contiguous block.
   std::vector<float> scores(num_faces * num_views, 0.0f);
+  ViewSelection selection;
+  selection.coverage.assign(num_views, 0.0);
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(size_t{0}, num_views, [&](size_t v) {
-      ScoreView(vertices, faces, views[v], options, scores.data() + v * num_faces);
+      ScoreView(vertices, faces, views[v], options, scores.data() + v * num_faces,
+                &selection.coverage[v]);
     });
   });
 
-  ViewSelection selection;
   selection.labels.assign(num_faces, -1);
   std::vector<float> best(num_faces, 0.0f);
   for (size_t f = 0; f < num_faces; ++f) {

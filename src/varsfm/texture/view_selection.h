@@ -43,6 +43,7 @@ struct ViewSelection {
   std::vector<int> labels;  // per face: index into the views, or -1 when no view sees it
   size_t num_visible_faces = 0;
   size_t num_changed_by_smoothing = 0;
+  std::vector<double> coverage;  // per view: the fraction of its pixels the mesh covers
 };
 
 ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,

@@ -1,0 +1,86 @@
+#include "varsfm/mesh/mesh_quality.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <open3d/geometry/KDTreeFlann.h>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+double Percentile(std::vector<double> values, double fraction) {
+  const auto at = values.begin() + static_cast<ptrdiff_t>(fraction * (values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+}  // namespace
+
+void MeshQualityLimits::Check() const {
+  if (!(max_relative_distance > 0 && max_relative_distance <= 1))
+    Fail("mesh check: the largest relative distance must be in (0, 1], not {}",
+         max_relative_distance);
+  if (!(min_faces_per_point >= 0 && min_faces_per_point <= 1))
+    Fail("mesh check: the faces per point must be in [0, 1], not {}", min_faces_per_point);
+}
+
+double RobustExtent(const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) return 0;
+  Eigen::Vector3d size;
+  std::vector<double> coordinate(points.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    for (size_t i = 0; i < points.size(); ++i) coordinate[i] = points[i][axis];
+    size[axis] = Percentile(coordinate, 0.95) - Percentile(coordinate, 0.05);
+  }
+  return size.norm();
+}
+
+MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+                               double spacing) {
+  MeshQuality quality;
+  quality.spacing = spacing;
+  quality.num_points = points.size();
+  quality.num_vertices = mesh.vertices.size();
+  quality.num_faces = mesh.faces.size();
+  quality.extent = RobustExtent(points);
+  if (points.empty() || mesh.vertices.empty()) return quality;
+  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
+  const open3d::geometry::KDTreeFlann tree(data);
+  std::vector<double> distances(mesh.vertices.size());
+  std::vector<int> index(1);
+  std::vector<double> squared(1);
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+    tree.SearchKNN(mesh.vertices[i], 1, index, squared);
+    distances[i] = std::sqrt(squared[0]);
+  }
+  quality.median_distance = Median(std::move(distances));
+  return quality;
+}
+
+void CheckMeshQuality(const MeshQuality& quality, const MeshQualityLimits& limits) {
+  const double min_faces = limits.min_faces_per_point * quality.num_points;
+  if (quality.num_faces < min_faces)
+    Fail("the mesh is broken: {} faces from {} points (at least {:.0f} expected)",
+         quality.num_faces, quality.num_points, std::ceil(min_faces));
+  const double max_distance =
+      std::max(limits.max_relative_distance * quality.extent, quality.spacing);
+  if (quality.median_distance > max_distance)
+    Fail(
+        "the mesh is broken: its vertices lie a median {:.4g} from the points, {:.2f} % of the "
+        "cloud's extent {:.4g} (at most {:.4g} expected: {:.2f} % of the extent or the point "
+        "spacing {:.4g})",
+        quality.median_distance, 100 * quality.RelativeDistance(), quality.extent, max_distance,
+        100 * limits.max_relative_distance, quality.spacing);
+}
+
+}  // namespace varsfm

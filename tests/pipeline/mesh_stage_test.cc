@@ -1,0 +1,40 @@
+// The mesh stage on real photographs: bundler/kermit's dense cloud, on which the former default
+// (CGAL's Poisson) crashed the process in its surface mesher, must give a mesh that passes the
+// check, with its figures in summary.json.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "support/test_data.h"
+
+namespace varsfm {
+namespace {
+
+using testing::RunCommand;
+using testing::TempDir;
+using testing::VarsfmBinary;
+
+TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir tmp("mesh_stage_kermit");
+  const auto out = tmp.path() / "out";
+  std::string log;
+  ASSERT_EQ(RunCommand(fmt::format("{} run {} {} --until mesh", testing::ShellQuote(VarsfmBinary()),
+                                   testing::ShellQuote(kermit), testing::ShellQuote(out)),
+                       &log),
+            0)
+      << log;
+  ASSERT_TRUE(std::filesystem::exists(out / "mesh.ply"));
+  const nlohmann::json mesh = nlohmann::json::parse(std::ifstream(out / "summary.json"))["mesh"];
+  EXPECT_GT(mesh["points"].get<double>(), 100000) << mesh;
+  EXPECT_GE(mesh["faces"].get<double>(), 2000) << mesh;
+  EXPECT_LT(mesh["relative_distance"].get<double>(), 0.005) << mesh;
+  EXPECT_NEAR(mesh["relative_distance"].get<double>(),
+              mesh["median_distance"].get<double>() / mesh["extent"].get<double>(), 1e-12);
+}
+
+}  // namespace
+}  // namespace varsfm
