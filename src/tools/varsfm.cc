@@ -16,6 +16,7 @@
 #include "varsfm/pipeline/match.h"
 #include "varsfm/pipeline/mesh.h"
 #include "varsfm/pipeline/render.h"
+#include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/run.h"
 #include "varsfm/pipeline/texture.h"
 #include "varsfm/util/error.h"
@@ -372,6 +373,26 @@ int main(int argc, char** argv) {
     cmd->add_option("--panel", render.panel_image_dir,
                     "the photos' folder: write photo | rendering | shaded mesh side by side");
     cmd->callback([&render] { varsfm::RunRender(render); });
+  }
+
+  // report: OUT/report.html, one offline page showing what a run made (run writes it too).
+  varsfm::ReportOptions report;
+  {
+    CLI::App* cmd = app.add_subcommand("report", "write OUT/report.html from a run's outputs");
+    cmd->add_option("output", report.output, "output folder of run (or map)")->required();
+    cmd->add_option("--images", report.data.image_dir,
+                    "the photos, for thumbnails (default: where the run read them)");
+    cmd->add_option("--three-js", report.three_js_dir,
+                    "three.js folder (default: $VARSFM_THREE_JS_DIR, else Debian's libjs-three)");
+    cmd->add_option("--max-points", report.data.max_view_points, "points shown in the 3D view")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--thumbnail-width", report.data.thumbnail_width, "thumbnail width (px)")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 1024));
+    cmd->add_flag("!--no-model", report.data.embed_model,
+                  "leave OUT/model.glb out of the page (smaller file, no textured model)");
+    cmd->callback([&report] { varsfm::RunReport(report); });
   }
 
   // export: the model and photos in the layout of 3D Gaussian Splatting or nerfstudio.

@@ -1,7 +1,8 @@
 #pragma once
 // `varsfm run INPUT OUT`: the whole chain with default options, photos or a video in, a
 // textured model out: extract -> match -> map (sparse) -> densify (dense) -> mesh -> texture,
-// stopping after the stage `until` names. OUT/workspace.db is the workspace (re-running resumes).
+// stopping after the stage `until` names, then OUT/report.html of whatever was made.
+// OUT/workspace.db is the workspace (re-running resumes).
 #include <filesystem>
 #include <string>
 
@@ -11,6 +12,7 @@
 #include "varsfm/pipeline/match.h"
 #include "varsfm/pipeline/mesh.h"
 #include "varsfm/pipeline/render.h"
+#include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/texture.h"
 
 namespace varsfm {
@@ -31,6 +33,7 @@ struct RunOptions {
   // Every N-th registered image by name is kept out of densify and texture, and the textured
   // model is scored on those views at the end (scene/holdout.h); 0: none.
   int holdout = 0;
+  ReportOptions report;  // output filled in
 };
 
 struct RunResult {
@@ -44,6 +47,7 @@ struct RunResult {
   // With a holdout: the textured model rendered from every registered camera, held-out views
   // apart (held_out.num_images == 0 otherwise).
   RenderEvaluationReport renders;
+  std::filesystem::path report;  // OUT/report.html
 };
 
 // Throws varsfm::Error (one line) for a missing input, a video that cannot be decoded, too few

@@ -1,0 +1,16 @@
+#include "varsfm/pipeline/report.h"
+
+#include "varsfm/util/log.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+
+ReportResult RunReport(const ReportOptions& options) {
+  Timer timer;
+  const ReportResult result = WriteReport(options);
+  info("report: wrote {} ({:.1f} MB{}) in {:.2f} s", result.file.string(), result.bytes / 1e6,
+       result.has_3d_view ? "" : ", no 3D view: three.js not found", timer.Seconds());
+  return result;
+}
+
+}  // namespace varsfm

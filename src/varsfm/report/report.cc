@@ -1,0 +1,52 @@
+#include "varsfm/report/report.h"
+
+#include <fstream>
+
+#include "varsfm/report/html_report.h"
+#include "varsfm/report/three_js.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+
+namespace varsfm {
+
+void ReportOptions::Check() const {
+  if (output.empty()) Fail("report: no output folder given");
+  if (data.thumbnail_width < 16 || data.thumbnail_width > 1024)
+    Fail("report: thumbnail width {} is outside 16-1024", data.thumbnail_width);
+  if (data.thumbnail_quality < 1 || data.thumbnail_quality > 100)
+    Fail("report: JPEG quality {} is outside 1-100", data.thumbnail_quality);
+  if (data.max_view_points == 0) Fail("report: the 3D view needs at least one point");
+}
+
+ReportResult WriteReport(const ReportOptions& options) {
+  options.Check();
+  const ReportData data = CollectReportData(options.output, options.data);
+  const std::optional<ThreeJs> three = LoadThreeJs(options.three_js_dir);
+  if (!three) warn("report: three.js not found (install libjs-three); the report has no 3D view");
+  const std::string html = ReportHtml(data, three);
+
+  ReportResult result;
+  result.file = options.output / "report.html";
+  result.bytes = html.size();
+  result.has_3d_view = three.has_value();
+  const std::filesystem::path temporary = options.output / ".report.html.tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    out.write(html.data(), static_cast<std::streamsize>(html.size()));
+    out.close();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      Fail("cannot write {}", temporary.string());
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, result.file, error);
+  if (error) {
+    std::filesystem::remove(temporary, error);
+    Fail("cannot write {}", result.file.string());
+  }
+  return result;
+}
+
+}  // namespace varsfm

@@ -1,0 +1,34 @@
+#pragma once
+// OUT/report.html: one file that shows what a run did and opens offline in any browser (see
+// html_report.h): the summary, the 3D view of cameras, points and textured model, each image's
+// intrinsics in capture order, the fit's figures and the pair-match matrix.
+#include <cstddef>
+#include <filesystem>
+
+#include "varsfm/report/report_data.h"
+
+namespace varsfm {
+
+struct ReportOptions {
+  std::filesystem::path output;  // OUT: read, and report.html written into it
+  ReportDataOptions data;
+  // three.js's folder (three_js.h); empty: $VARSFM_THREE_JS_DIR, else Debian's libjs-three.
+  std::filesystem::path three_js_dir;
+
+  // Throws varsfm::Error (one line) for an empty output, a thumbnail width outside 16-1024, a
+  // JPEG quality outside 1-100 or no points allowed in the view.
+  void Check() const;
+};
+
+struct ReportResult {
+  std::filesystem::path file;  // OUT/report.html
+  size_t bytes = 0;
+  bool has_3d_view = false;  // three.js was found and inlined
+};
+
+// Writes OUT/report.html (through a temporary file renamed into place, so an existing report is
+// replaced only by a complete one). Throws varsfm::Error as CollectReportData does, or when the
+// file cannot be written.
+ReportResult WriteReport(const ReportOptions& options);
+
+}  // namespace varsfm
