@@ -128,16 +128,22 @@ RunResult RunAll(const RunOptions& options) {
       add_seconds("render_evaluation", result.renders.seconds);
     }
   }
+  // The report only shows what the stages made: a failure to write it is a warning, not a
+  // failed run.
   ReportOptions report = options.report;
   report.output = options.output;
-  result.report = RunReport(report).file;
+  try {
+    result.report = RunReport(report).file;
+  } catch (const Error& e) {
+    warn("run: no report: {}", e.what());
+  }
   const Reconstruction& model = result.map.reconstruction;
   info("run: {}/{} images registered, {} points, RMS {:.3f} px, {:.1f} s; report: {}",
        model.NumRegisteredImages(), model.images().size(), model.points3D().size(),
        model.RmsReprojectionError(),
        result.seconds_extract + result.seconds_match + result.seconds_map + result.seconds_densify +
            result.seconds_mesh + result.seconds_texture,
-       result.report.string());
+       result.report.empty() ? "none" : result.report.string());
   return result;
 }
 

@@ -162,9 +162,16 @@ const char* ViewerScript() {
     });
   });
 
+  // The canvas's place on the page (CSS pixels), for a test that looks at a screenshot.
   function finish(status) {
     resize();
-    requestAnimationFrame(function () { render(); setStatus(status); });
+    requestAnimationFrame(function () {
+      render();
+      var rect = canvas.getBoundingClientRect();
+      root.setAttribute('data-canvas', [rect.left + window.scrollX, rect.top + window.scrollY,
+                                        rect.width, rect.height].map(Math.round).join(' '));
+      setStatus(status);
+    });
   }
   var glb = document.getElementById('varsfm-glb');
   if (!glb) { finish('ready'); return; }

@@ -1,0 +1,234 @@
+// The report's parts on a synthetic run with exact truth: what it gathers from OUT, the compact
+// display model, the page's self-containment and the pieces (base64, ticks, escaping).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "report/synthetic_output.h"
+#include "support/test_data.h"
+#include "varsfm/report/base64.h"
+#include "varsfm/report/display_model.h"
+#include "varsfm/report/html_report.h"
+#include "varsfm/report/html_text.h"
+#include "varsfm/report/report.h"
+#include "varsfm/report/svg_chart.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+using testing::TempDir;
+using testing::WriteSyntheticOutput;
+
+std::string ReadText(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(Base64, MatchesRfc4648TestVectors) {
+  const auto encode = [](const std::string& s) {
+    return Base64Encode(reinterpret_cast<const uint8_t*>(s.data()), s.size());
+  };
+  EXPECT_EQ(encode(""), "");
+  EXPECT_EQ(encode("f"), "Zg==");
+  EXPECT_EQ(encode("fo"), "Zm8=");
+  EXPECT_EQ(encode("foo"), "Zm9v");
+  EXPECT_EQ(encode("foob"), "Zm9vYg==");
+  EXPECT_EQ(encode("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(encode("foobar"), "Zm9vYmFy");
+  EXPECT_EQ(Base64Encode(std::vector<uint8_t>{0xfb, 0xff}), "+/8=");
+}
+
+TEST(SvgChart, NiceTicksCoverTheRangeAtRoundSteps) {
+  EXPECT_EQ(NiceTicks(0, 1), (std::vector<double>{0, 0.2, 0.4, 0.6000000000000001, 0.8, 1}));
+  const std::vector<double> ticks = NiceTicks(918.9, 1428.0);
+  ASSERT_GE(ticks.size(), 2u);
+  EXPECT_LE(ticks.front(), 918.9);
+  EXPECT_GE(ticks.back(), 1428.0);
+  EXPECT_DOUBLE_EQ(ticks[1] - ticks[0], 100.0);
+}
+
+TEST(HtmlText, JsonCannotCloseItsScriptElement) {
+  const std::string json = JsonForScript({{"name", "</script><b>"}});
+  EXPECT_EQ(json.find('<'), std::string::npos);
+  EXPECT_EQ(nlohmann::json::parse(json)["name"], "</script><b>");
+  EXPECT_EQ(EscapeHtml("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+}
+
+TEST(ReportData, GathersTheModelWorkspaceAndPhotos) {
+  TempDir tmp("report_data");
+  const Reconstruction model = WriteSyntheticOutput(tmp.path());
+  const ReportData data = CollectReportData(tmp.path(), {});
+  EXPECT_EQ(data.sparse_dir, tmp.path() / "sparse");
+  ASSERT_EQ(data.images.size(), 6u);
+  size_t registered = 0, seen = 0;
+  for (const ReportImage& image : data.images) {
+    EXPECT_EQ(image.name, model.image(image.image_id).name);
+    EXPECT_FALSE(image.thumbnail.empty()) << image.name;
+    EXPECT_EQ(image.thumbnail_width, 160);  // 320 x 240 photos halved
+    EXPECT_EQ(image.thumbnail_height, 120);
+    if (!image.registered) continue;
+    ++registered;
+    seen += image.num_points3D;
+    const Camera& truth = model.CameraOf(image.image_id);
+    EXPECT_DOUBLE_EQ(image.camera.focal(), truth.focal());
+    EXPECT_LT(image.rms_error_px, 1e-6);  // exact synthetic observations
+    EXPECT_EQ(image.num_points3D, model.image(image.image_id).NumPoints3D());
+  }
+  EXPECT_EQ(registered, 5u);
+  EXPECT_EQ(seen, model.NumObservations());
+  EXPECT_EQ(data.num_observations, model.NumObservations());
+  EXPECT_EQ(data.observation_errors_px.size(), model.NumObservations());
+  EXPECT_EQ(data.track_lengths.size(), model.points3D().size());
+  EXPECT_EQ(data.view_points.size(), model.points3D().size());  // under max_view_points
+  // Pairs (1,2) (1,3) (2,3) (2,4) (3,4) (3,5) (4,5) (4,6) (5,6).
+  EXPECT_EQ(data.pairs.size(), 9u);
+  const ReportImage& last = data.images.back();
+  EXPECT_FALSE(last.registered);
+  EXPECT_EQ(last.best_pair_inliers, 5u);
+  EXPECT_EQ(last.num_verified_pairs, 0u);
+  EXPECT_NE(last.failure.find("no pair with 15+ verified inliers (best 5)"), std::string::npos)
+      << last.failure;
+  EXPECT_GT(data.glb.size(), 0u);
+  EXPECT_GT(data.glb_file_bytes, 0u);
+}
+
+TEST(ReportData, DecimatesThePointsShownAndReadsSparseZero) {
+  TempDir tmp("report_data_decimate");
+  const Reconstruction model = WriteSyntheticOutput(tmp.path(), {.model_in_subfolder = true});
+  ReportDataOptions options;
+  options.max_view_points = 50;
+  const ReportData data = CollectReportData(tmp.path(), options);
+  EXPECT_EQ(data.sparse_dir, tmp.path() / "sparse" / "0");
+  EXPECT_LE(data.view_points.size(), 50u);
+  EXPECT_GE(data.view_points.size(), 25u);  // every k-th point: at least half the budget
+  EXPECT_EQ(data.num_points3D, model.points3D().size());
+}
+
+TEST(ReportData, AFolderWithoutModelIsOneLineError) {
+  TempDir tmp("report_data_empty");
+  try {
+    CollectReportData(tmp.path(), {});
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no sparse model"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+}
+
+// Reads accessor `index` of a GLB's binary chunk as `T`, `components` per element.
+template <typename T>
+std::vector<T> Accessor(const nlohmann::json& gltf, const uint8_t* bin, int index, int components) {
+  const nlohmann::json& accessor = gltf["accessors"][index];
+  const nlohmann::json& view = gltf["bufferViews"][accessor["bufferView"].get<int>()];
+  const size_t stride = view.value("byteStride", sizeof(T) * components);
+  std::vector<T> values;
+  for (size_t i = 0; i < accessor["count"].get<size_t>(); ++i)
+    for (int k = 0; k < components; ++k) {
+      T v;
+      std::memcpy(&v, bin + view["byteOffset"].get<size_t>() + i * stride + k * sizeof(T),
+                  sizeof(T));
+      values.push_back(v);
+    }
+  return values;
+}
+
+TEST(DisplayModel, QuantisedCopyKeepsEveryTriangleWithinOneStep) {
+  TempDir tmp("display_model");
+  const TexturedMesh box = testing::RedBox();
+  WriteGlb(tmp.path() / "box.glb", box);
+  const std::string file = ReadText(tmp.path() / "box.glb");
+  const std::vector<uint8_t> glb =
+      CompactGlbForDisplay(std::vector<uint8_t>(file.begin(), file.end()));
+  uint32_t json_length;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  const nlohmann::json gltf =
+      nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_length);
+  const uint8_t* bin = glb.data() + 20 + json_length + 8;
+  const nlohmann::json& primitive = gltf["meshes"][0]["primitives"][0];
+  const auto q = Accessor<uint16_t>(gltf, bin, primitive["attributes"]["POSITION"], 3);
+  const auto uv = Accessor<uint16_t>(gltf, bin, primitive["attributes"]["TEXCOORD_0"], 2);
+  const auto indices = Accessor<uint16_t>(gltf, bin, primitive["indices"], 1);
+  const nlohmann::json& node = gltf["nodes"][0];
+  EXPECT_FALSE(node.contains("rotation"));  // the sparse model's frame
+  ASSERT_EQ(indices.size(), 3 * box.faces.size());
+  for (size_t f = 0; f < box.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const size_t v = indices[3 * f + k];
+      for (int c = 0; c < 3; ++c) {
+        const double x = node["translation"][c].get<double>() +
+                         node["scale"][c].get<double>() * q[3 * v + c] / 65535.0;
+        EXPECT_NEAR(x, box.vertices[box.faces[f][k]][c], 2.0 / 65535);
+      }
+      const Eigen::Vector2f& t = box.texcoords[box.face_texcoords[f][k]];
+      EXPECT_NEAR(uv[2 * v] / 65535.0, t.x(), 1e-4);
+      EXPECT_NEAR(uv[2 * v + 1] / 65535.0, t.y(), 1e-4);
+    }
+  // The 60 x 100 page as a JPEG resampled to 32 x 64, powers of two.
+  const nlohmann::json& image = gltf["images"][0];
+  EXPECT_EQ(image["mimeType"], "image/jpeg");
+  const nlohmann::json& view = gltf["bufferViews"][image["bufferView"].get<int>()];
+  const uint8_t* jpeg = bin + view["byteOffset"].get<size_t>();
+  const cv::Mat page =
+      DecodeImage("page.jpg", std::vector<uint8_t>(jpeg, jpeg + view["byteLength"].get<size_t>()),
+                  ColorMode::kColor);
+  EXPECT_EQ(page.cols, 32);
+  EXPECT_EQ(page.rows, 64);
+  const cv::Vec3b red = page.at<cv::Vec3b>(32, 16);
+  EXPECT_GT(red[2], 200);
+  EXPECT_LT(red[1], 50);
+}
+
+TEST(DisplayModel, NotAGlbIsOneLineError) {
+  EXPECT_THROW(CompactGlbForDisplay({'n', 'o', 't', ' ', 'g', 'l', 'b'}), Error);
+}
+
+TEST(Report, PageIsSelfContained) {
+  TempDir tmp("report_page");
+  WriteSyntheticOutput(tmp.path());
+  const ReportResult result = WriteReport({.output = tmp.path()});
+  ASSERT_TRUE(result.has_3d_view) << "three.js (libjs-three) is a build dependency";
+  EXPECT_EQ(result.file, tmp.path() / "report.html");
+  EXPECT_EQ(std::filesystem::file_size(result.file), result.bytes);
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / ".report.html.tmp"));
+  const std::string html = ReadText(result.file);
+  // Nothing is fetched: no element refers to a file or a server.
+  for (const char* attribute : {"src=\"http", "href=\"http", "src=\"file", "src=\"/", "src=\"."})
+    EXPECT_EQ(html.find(attribute), std::string::npos) << attribute;
+  EXPECT_NE(html.find("id=\"varsfm-scene\""), std::string::npos);
+  EXPECT_NE(html.find("id=\"varsfm-glb\" data-encoding=\"deflate\""), std::string::npos);
+  EXPECT_NE(html.find("THREE.OrbitControls"), std::string::npos);
+  EXPECT_NE(html.find("id=\"thumb-1\""), std::string::npos);
+  EXPECT_NE(html.find("Focal length per image"), std::string::npos);
+  EXPECT_NE(html.find("no pair with 15+ verified inliers (best 5)"), std::string::npos);
+}
+
+TEST(Report, WithoutThreeJsThePageSaysWhatToInstall) {
+  TempDir tmp("report_no_three");
+  WriteSyntheticOutput(tmp.path(), {.with_glb = false});
+  std::filesystem::create_directories(tmp.path() / "no_three");
+  const ReportResult result =
+      WriteReport({.output = tmp.path(), .three_js_dir = tmp.path() / "no_three"});
+  EXPECT_FALSE(result.has_3d_view);
+  const std::string html = ReadText(result.file);
+  EXPECT_NE(html.find("The 3D view needs three.js"), std::string::npos);
+  EXPECT_NE(html.find("data-viewer=\"absent\""), std::string::npos);
+  EXPECT_EQ(html.find("id=\"varsfm-scene\""), std::string::npos);
+  EXPECT_NE(html.find("Focal length per image"), std::string::npos);  // the rest is there
+}
+
+TEST(Report, OptionsAreChecked) {
+  EXPECT_THROW(ReportOptions{}.Check(), Error);
+  ReportOptions options{.output = "x"};
+  options.data.thumbnail_width = 4;
+  EXPECT_THROW(options.Check(), Error);
+}
+
+}  // namespace
+}  // namespace varsfm
