@@ -48,12 +48,13 @@ constexpr int kWidth = 1400, kHeight = 1300;
 // its stdout. Software WebGL; a profile of its own so that tests can run side by side; the
 // virtual time budget lets the page's scripts and its first frames run to the end.
 std::string Chromium(const std::string& chromium, const std::filesystem::path& page,
-                     const std::filesystem::path& profile, const std::string& action) {
+                     const std::filesystem::path& profile, const std::string& action,
+                     const std::string& fragment = "") {
   const std::string command = fmt::format(
       "{} --headless --no-sandbox --disable-dev-shm-usage --use-gl=angle --use-angle=swiftshader "
       "--enable-unsafe-swiftshader --hide-scrollbars --no-first-run --user-data-dir={} "
       "--window-size={},{} --virtual-time-budget=20000 {} {} 2>/dev/null",
-      Q(chromium), Q(profile), kWidth, kHeight, action, Q("file://" + page.string()));
+      Q(chromium), Q(profile), kWidth, kHeight, action, Q("file://" + page.string() + fragment));
   std::string out;
   EXPECT_EQ(RunCommand(command, &out), 0) << command;
   return out;
@@ -89,6 +90,17 @@ TEST(ReportInBrowser, ViewerDrawsTheCamerasPointsAndTexturedModel) {
   ASSERT_GT(height, 100);
   ASSERT_LE(left + width, kWidth);
   ASSERT_LE(top + height, kHeight);
+
+  // A camera selected (as a click on it does, here through the page's #camera= link): its
+  // photo and figures are shown.
+  const std::string selected = Chromium(chromium, out / "report.html", tmp.path() / "profile",
+                                        "--dump-dom", "#camera=2");
+  const size_t info = selected.find("id=\"camera-info\"");
+  ASSERT_NE(info, std::string::npos);
+  const std::string panel = selected.substr(info, selected.find("</div>", info) - info);
+  EXPECT_EQ(panel.find("hidden"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("<b>photo_02.png</b>"), std::string::npos) << panel;
+  EXPECT_NE(panel.find("data:image/jpeg;base64,"), std::string::npos);
 
   const auto png = tmp.path() / "shot.png";
   Chromium(chromium, out / "report.html", tmp.path() / "profile", "--screenshot=" + Q(png));

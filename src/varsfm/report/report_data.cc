@@ -163,6 +163,16 @@ void AddUnextractedPhotos(const fs::path& image_dir, std::vector<ReportImage>* i
   }
 }
 
+// Sub-folders of `sparse` that hold a model (a mapper that splits a scene writes 0, 1, ...).
+size_t CountModels(const fs::path& sparse) {
+  size_t count = 0;
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(sparse, error))
+    count += entry.is_directory() && (fs::is_regular_file(entry.path() / "cameras.bin") ||
+                                      fs::is_regular_file(entry.path() / "cameras.txt"));
+  return count;
+}
+
 }  // namespace
 
 const ReportImage* ReportData::FindImage(image_t image_id) const {
@@ -184,6 +194,7 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
   ReportData data;
   data.output = output;
   data.sparse_dir = FindSparseModel(output);
+  data.num_models = std::max<size_t>(1, CountModels(output / "sparse"));
   data.summary = ReadSummary(output / "summary.json");
 
   std::map<image_t, ReportImage> images;

@@ -50,8 +50,9 @@ struct ReportPair {
 };
 
 struct ReportData {
-  std::filesystem::path output;                       // OUT
-  std::filesystem::path sparse_dir;                   // the model read
+  std::filesystem::path output;      // OUT
+  std::filesystem::path sparse_dir;  // the model read
+  size_t num_models = 1;             // models in OUT/sparse (sparse/0, sparse/1, ...)
   nlohmann::json summary = nlohmann::json::object();  // OUT/summary.json, {} when absent
   std::vector<ReportImage> images;                    // by image id: the order of capture
   std::vector<ReportPair> pairs;

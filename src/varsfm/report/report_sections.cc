@@ -68,7 +68,12 @@ std::string SummarySection(const ReportData& data, const ReportCharts& charts) {
                    ? "<span class=\"warn\">" + std::to_string(data.images.size() - registered) +
                          " not registered (see the table)</span>"
                    : "all images in one model");
-  html += Card("Model", EscapeHtml(model), "COLMAP format");
+  html += Card("Model", EscapeHtml(model),
+               data.num_models > 1
+                   ? fmt::format("<span class=\"warn\">{} models in sparse/: this page shows "
+                                 "this one</span>",
+                                 data.num_models)
+                   : "COLMAP format");
   html +=
       Card("3D points", Count(data.num_points3D), Count(data.num_observations) + " observations");
   html += Card("RMS reprojection error", fmt::format("{:.3f} px", Rms(data.observation_errors_px)));

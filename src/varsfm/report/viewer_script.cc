@@ -155,6 +155,10 @@ const char* ViewerScript() {
     select(hits.length ? hits[0].object.userData.id : null);
   });
 
+  // report.html#camera=ID opens with that camera selected (a link to one image).
+  var linked = /camera=(\d+)/.exec(window.location.hash);
+  if (linked) select(Number(linked[1]));
+
   document.querySelectorAll('#viewer-toggles input').forEach(function (input) {
     input.addEventListener('change', function () {
       groups[input.name].visible = input.checked;
