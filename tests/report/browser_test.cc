@@ -93,8 +93,8 @@ TEST(ReportInBrowser, ViewerDrawsTheCamerasPointsAndTexturedModel) {
 
   // A camera selected (as a click on it does, here through the page's #camera= link): its
   // photo and figures are shown.
-  const std::string selected = Chromium(chromium, out / "report.html", tmp.path() / "profile",
-                                        "--dump-dom", "#camera=2");
+  const std::string selected =
+      Chromium(chromium, out / "report.html", tmp.path() / "profile", "--dump-dom", "#camera=2");
   const size_t info = selected.find("id=\"camera-info\"");
   ASSERT_NE(info, std::string::npos);
   const std::string panel = selected.substr(info, selected.find("</div>", info) - info);

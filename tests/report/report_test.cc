@@ -99,6 +99,19 @@ TEST(ReportData, GathersTheModelWorkspaceAndPhotos) {
   EXPECT_GT(data.glb_file_bytes, 0u);
 }
 
+TEST(ReportData, AnImageInAnotherModelIsSaidToBeThere) {
+  TempDir tmp("report_data_models");
+  WriteSyntheticOutput(tmp.path());
+  nlohmann::json summary = nlohmann::json::parse(ReadText(tmp.path() / "summary.json"));
+  summary["models"] = {{{"path", "sparse/0"}}, {{"path", "sparse/1"}}};
+  summary["images"].back()["model"] = 1;
+  std::ofstream(tmp.path() / "summary.json") << summary.dump();
+  const ReportData data = CollectReportData(tmp.path(), {});
+  EXPECT_EQ(data.num_models, 2u);
+  EXPECT_NE(data.images.back().failure.find("sparse/1"), std::string::npos)
+      << data.images.back().failure;
+}
+
 TEST(ReportData, DecimatesThePointsShownAndReadsSparseZero) {
   TempDir tmp("report_data_decimate");
   const Reconstruction model = WriteSyntheticOutput(tmp.path(), {.model_in_subfolder = true});

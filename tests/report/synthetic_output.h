@@ -14,7 +14,7 @@
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
-#include "varsfm/pipeline/map.h"
+#include "varsfm/pipeline/map_summary.h"
 #include "varsfm/synthetic/synthetic_reconstruction.h"
 #include "varsfm/texture/gltf_writer.h"
 

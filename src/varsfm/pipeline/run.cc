@@ -134,7 +134,7 @@ RunResult RunAll(const RunOptions& options) {
   report.output = options.output;
   try {
     result.report = RunReport(report).file;
-  } catch (const Error& e) {
+  } catch (const std::exception& e) {
     warn("run: no report: {}", e.what());
   }
   const Reconstruction& model = result.map.reconstruction;

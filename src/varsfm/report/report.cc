@@ -20,10 +20,15 @@ void ReportOptions::Check() const {
 
 ReportResult WriteReport(const ReportOptions& options) {
   options.Check();
-  const ReportData data = CollectReportData(options.output, options.data);
   const std::optional<ThreeJs> three = LoadThreeJs(options.three_js_dir);
   if (!three) warn("report: three.js not found (install libjs-three); the report has no 3D view");
-  const std::string html = ReportHtml(data, three);
+  std::string html;
+  try {
+    html = ReportHtml(CollectReportData(options.output, options.data), three);
+  } catch (const nlohmann::json::exception& e) {
+    // summary.json parsed, but a value has another type than map and run write.
+    Fail("{}: unexpected content ({})", (options.output / "summary.json").string(), e.what());
+  }
 
   ReportResult result;
   result.file = options.output / "report.html";

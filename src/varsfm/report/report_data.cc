@@ -91,8 +91,19 @@ void AddModelStatistics(const Reconstruction& rec, size_t max_view_points, Repor
   }
 }
 
-// Why an image is not in the model, from what the workspace says about it.
-std::string FailureReason(const ReportImage& image, bool have_workspace, size_t min_inliers) {
+// Why an image is not in the model: what the mapper recorded in summary.json (another model
+// holds it, or its reason), else what the workspace says about it.
+std::string FailureReason(const ReportImage& image, const nlohmann::json& summary,
+                          bool have_workspace, size_t min_inliers) {
+  for (const nlohmann::json& entry : summary.value("images", nlohmann::json::array())) {
+    if (!entry.is_object() || entry.value("image_id", kInvalidImageId) != image.image_id) continue;
+    const nlohmann::json model = entry.value("model", nlohmann::json());
+    if (model.is_number_unsigned() && model.get<size_t>() > 0)
+      return fmt::format("in another model: sparse/{} (the mapper could not join it to this one)",
+                         model.get<size_t>());
+    if (entry.contains("reason") && entry["reason"].is_string())
+      return entry["reason"].get<std::string>();
+  }
   if (!have_workspace) return "not in the model";
   if (image.image_id == kInvalidImageId)
     return "not extracted (unreadable or too small: see the extract log)";
@@ -194,8 +205,10 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
   ReportData data;
   data.output = output;
   data.sparse_dir = FindSparseModel(output);
-  data.num_models = std::max<size_t>(1, CountModels(output / "sparse"));
   data.summary = ReadSummary(output / "summary.json");
+  const nlohmann::json models = data.summary.value("models", nlohmann::json());
+  data.num_models =
+      std::max<size_t>(1, models.is_array() ? models.size() : CountModels(output / "sparse"));
 
   std::map<image_t, ReportImage> images;
   AddModelStatistics(ReadColmapModel(data.sparse_dir), options.max_view_points, &data, &images);
@@ -209,7 +222,7 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
   if (have_workspace && !image_dir.empty()) AddUnextractedPhotos(image_dir, &data.images);
   for (ReportImage& image : data.images) {
     if (!image.registered)
-      image.failure = FailureReason(image, have_workspace, data.min_pair_inliers);
+      image.failure = FailureReason(image, data.summary, have_workspace, data.min_pair_inliers);
     if (image_dir.empty()) continue;
     if (auto thumb = MakeThumbnail(image_dir / image.name, options.thumbnail_width,
                                    options.thumbnail_quality)) {

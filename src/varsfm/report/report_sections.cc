@@ -34,7 +34,9 @@ std::string ImageName(const ReportData& data, image_t id) {
 // The initial pair and the outcome of its two-view self-calibration.
 std::string InitialPairCard(const ReportData& data) {
   const nlohmann::json& s = data.summary;
-  if (!s.contains("initial_pair") || !s["initial_pair"].is_array() || s["initial_pair"].size() != 2)
+  if (!s.contains("initial_pair") || !s["initial_pair"].is_array() ||
+      s["initial_pair"].size() != 2 || !s["initial_pair"][0].is_number_unsigned() ||
+      !s["initial_pair"][1].is_number_unsigned())
     return "";
   const std::string pair = ImageName(data, s["initial_pair"][0].get<image_t>()) + " &amp; " +
                            ImageName(data, s["initial_pair"][1].get<image_t>());
