@@ -218,7 +218,7 @@ MapResult RunMapping(const MapOptions& options) {
   };
   Timer mapping;
   MultiModelResult built =
-      ReconstructAllModels(ws.reconstruction, ws.graph, ws.planar_pairs, mapper_options);
+      ReconstructAllModels(std::move(ws.reconstruction), ws.graph, ws.planar_pairs, mapper_options);
   MapResult result;
   result.seconds_mapping = mapping.Seconds();
   progress.Finish();

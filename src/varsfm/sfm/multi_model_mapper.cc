@@ -13,22 +13,27 @@
 namespace varsfm {
 namespace {
 
-// The images of `input` in `ids`, unregistered, with their cameras as they were before any
-// run (a camera shared with images of an earlier model starts again from its prior), and the
-// verified matches among them only: a run on these cannot reach an image outside.
+// The images `ids` of the first model (which holds every image), unregistered and without
+// links to its points, with their cameras as they were before any run (`priors`: a camera
+// shared with images of an earlier model starts again from its prior), and the verified matches
+// among them only: a run on these cannot reach an image outside. Taken from the first model
+// rather than from a copy of the input, which would double the keypoints held.
 struct RemainingImages {
   Reconstruction reconstruction;
   CorrespondenceGraph graph;
 };
 
-RemainingImages SelectImages(const Reconstruction& input, const CorrespondenceGraph& graph,
-                             const std::set<image_t>& ids) {
+RemainingImages SelectImages(const Reconstruction& first, const std::map<camera_t, Camera>& priors,
+                             const CorrespondenceGraph& graph, const std::set<image_t>& ids) {
   RemainingImages remaining;
   for (const image_t id : ids) {
-    const Image& image = input.image(id);
+    Image image = first.image(id);
+    image.registered = false;
+    image.cam_from_world = Rigid3d();
+    for (Point2D& point : image.points2D) point.point3D_id = kInvalidPoint3DId;
     if (!remaining.reconstruction.ExistsCamera(image.camera_id))
-      remaining.reconstruction.AddCamera(input.camera(image.camera_id));
-    remaining.reconstruction.AddImage(image);
+      remaining.reconstruction.AddCamera(priors.at(image.camera_id));
+    remaining.reconstruction.AddImage(std::move(image));
     remaining.graph.AddImage(id, graph.NumPoints2D(id));
   }
   for (const auto& [pair, count] : graph.PairCounts())
@@ -73,11 +78,14 @@ std::string UnmodelledReason(image_t id, const CorrespondenceGraph& graph,
 }  // namespace
 
 MultiModelResult ReconstructAllModels(
-    const Reconstruction& input, const CorrespondenceGraph& graph,
+    Reconstruction input, const CorrespondenceGraph& graph,
     const std::vector<std::pair<image_t, image_t>>& excluded_initial_pairs,
     const IncrementalMapperOptions& options) {
   MultiModelResult result;
+  const std::map<camera_t, Camera> priors = input.cameras();
+  const size_t num_images = input.images().size();
   std::set<image_t> modelled;
+  std::vector<image_t> all_ids;  // every image, from the first model
   for (size_t run = 0;; ++run) {
     Timer timer;
     MapperModel model;
@@ -85,19 +93,21 @@ MultiModelResult ReconstructAllModels(
     // The progress counts the images of every model so far against all images.
     IncrementalMapperOptions run_options = options;
     if (options.progress)
-      run_options.progress = [&options, offset = modelled.size(), total = input.images().size()](
+      run_options.progress = [&options, offset = modelled.size(), total = num_images](
                                  size_t registered, size_t, double rms) {
         options.progress(offset + registered, total, rms);
       };
     if (run == 0) {
       // The single-model mapper's run, on the input as it is.
-      model.reconstruction = input;
+      model.reconstruction = std::move(input);
       IncrementalMapper mapper(graph, excluded_initial_pairs, run_options);
       model.summary = mapper.Reconstruct(&model.reconstruction);
     } else {
       const std::set<image_t> ids = ConnectedRemainingImages(graph, modelled);
       if (ids.size() < 2) break;
-      RemainingImages remaining = SelectImages(input, graph, ids);
+      // models.front() is the first run's until the sort below.
+      RemainingImages remaining =
+          SelectImages(result.models.front().reconstruction, priors, graph, ids);
       std::vector<std::pair<image_t, image_t>> excluded;
       for (const auto& pair : excluded_initial_pairs)
         if (ids.count(pair.first) && ids.count(pair.second)) excluded.push_back(pair);
@@ -111,6 +121,8 @@ MultiModelResult ReconstructAllModels(
       result.message = model.summary.message;
       break;
     }
+    if (run == 0)
+      for (const auto& [id, image] : model.reconstruction.images()) all_ids.push_back(id);
     for (const image_t id : model.reconstruction.RegisteredImageIds()) modelled.insert(id);
     result.models.push_back(std::move(model));
   }
@@ -122,7 +134,7 @@ MultiModelResult ReconstructAllModels(
   std::map<image_t, size_t> model_of;
   for (size_t k = 0; k < result.models.size(); ++k)
     for (const image_t id : result.models[k].reconstruction.RegisteredImageIds()) model_of[id] = k;
-  for (const auto& [id, image] : input.images())
+  for (const image_t id : all_ids)
     if (!model_of.count(id))
       result.unmodelled.push_back({id, UnmodelledReason(id, graph, model_of, result.message)});
   return result;

@@ -35,7 +35,7 @@ struct UnmodelledImage {
 
 struct MultiModelResult {
   std::vector<MapperModel> models;          // largest first; empty when none could start
-  std::vector<UnmodelledImage> unmodelled;  // in image id order
+  std::vector<UnmodelledImage> unmodelled;  // in image id order (empty when models is)
   std::string message;  // why the mapper stopped starting models (the last run's message)
 };
 
@@ -43,7 +43,7 @@ struct MultiModelResult {
 // takes it; `graph` and `excluded_initial_pairs` as for IncrementalMapper. The options'
 // progress callback counts the images registered in all models so far against all images.
 MultiModelResult ReconstructAllModels(
-    const Reconstruction& input, const CorrespondenceGraph& graph,
+    Reconstruction input, const CorrespondenceGraph& graph,
     const std::vector<std::pair<image_t, image_t>>& excluded_initial_pairs,
     const IncrementalMapperOptions& options);
 
