@@ -59,8 +59,7 @@ TEST(GroundTruth, BadFilesThrowOneLineNamingTheFile) {
 }
 
 TEST(GroundTruth, ImplausibleImageSizeIsAnError) {
-  // Found by fuzz/ground_truth_fuzzer.cc: a width of 1e20 was converted to int (undefined
-  // behaviour) and the camera accepted.
+  // A width of 1e20 was converted to int (undefined behaviour) and the camera accepted.
   testing::TempDir tmp("gt_size");
   for (const char* size : {"1e20 2048", "3072 -1", "0 0"}) {
     std::ofstream(tmp.path() / "0000.jpg.camera")

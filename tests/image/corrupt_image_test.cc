@@ -1,6 +1,6 @@
-// Image files that fuzz/image_fuzzer.cc and fuzz/obj_fuzzer.cc found crashing the reader or
-// making it allocate from a size field: each is now one varsfm::Error naming the file, before
-// any pixel buffer is allocated.
+// Image files that crashed the reader (a folder: found by fuzz/obj_fuzzer.cc's smoke run) or made
+// it allocate from a size field (found by review): each is now one varsfm::Error naming the
+// file, before any pixel buffer is allocated. docs/robustness.md lists them.
 #include <gtest/gtest.h>
 
 #include <string>

@@ -129,7 +129,7 @@ TEST(Exif, NoFocalWithoutTagsOrWithPlaceholderValues) {
 }
 
 TEST(Exif, CorruptResolutionUnitIsNoUnit) {
-  // Found by fuzz/exif_fuzzer.cc: a unit of 4e9 was converted to int (undefined behaviour).
+  // A unit of 4e9 was converted to int (undefined behaviour).
   ExifWriter exif;
   exif.Rational(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_LENGTH, 6, 1);
   exif.Rational(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_PLANE_X_RESOLUTION, 5000, 1);

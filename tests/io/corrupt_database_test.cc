@@ -1,6 +1,7 @@
-// Workspace rows that fuzz/database_blob_fuzzer.cc found crashing the reader: sizes (rows, cols)
-// that are negative, or whose product or byte count overflows to match a small blob. Each must
-// be one varsfm::Error, before anything is allocated from the size.
+// Workspace rows that crashed the reader (the overflow found by fuzz/database_blob_fuzzer.cc's
+// smoke run, the others by review): sizes (rows, cols) that are negative, or whose product or
+// byte count overflows to match a small blob. Each must be one varsfm::Error, before anything is
+// allocated from the size.
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 

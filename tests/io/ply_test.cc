@@ -115,8 +115,10 @@ TEST(Ply, ReadsColmapsPlyExport) {
   ASSERT_EQ(back.points.size(), rec.points3D().size());
   // COLMAP writes its points in hash-map order: find each of ours among them.
   for (const auto& [id, point] : rec.points3D()) {
+    // Captured by name: clang before 16 cannot capture a structured binding.
+    const Eigen::Vector3d& xyz = point.xyz;
     const auto it = std::find_if(back.points.begin(), back.points.end(), [&](const auto& x) {
-      return (x - point.xyz).norm() < 1e-6 * std::max(1.0, point.xyz.norm());
+      return (x - xyz).norm() < 1e-6 * std::max(1.0, xyz.norm());
     });
     ASSERT_NE(it, back.points.end()) << "point " << id;
     EXPECT_EQ(back.colors[it - back.points.begin()], point.color);

@@ -1,5 +1,5 @@
-// Mesh files that fuzz/obj_fuzzer.cc and fuzz/mesh_ply_fuzzer.cc found crashing the readers or
-// hitting undefined behaviour: each is now one varsfm::Error.
+// Mesh files that crashed the readers (found by fuzz/obj_fuzzer.cc's smoke run) or hit undefined
+// behaviour or uninitialised values (found by review): each is now one varsfm::Error.
 #include <gtest/gtest.h>
 
 #include <fstream>
