@@ -3,8 +3,8 @@
 //  - BM_GlobalBundleAdjustment: 30 images and 15,000 points, for each linear solver choice
 //    (ba/bundle_adjuster.cc, ChooseSolver) and thread count;
 //  - BM_SmallBundleAdjustment: 10 images and 1,000 points with the mapper's shared principal
-//    point, the size of a small photo set's final adjustment, for the project's dense Schur LM
-//    (dense_schur_solver.h) against Ceres' DENSE_SCHUR.
+//    point, the size of a small photo set's final adjustment, for the project's Schur solver
+//    (schur_solver.h, LM) against Ceres' DENSE_SCHUR.
 // Reports time, iterations and the final RMS.
 #include <benchmark/benchmark.h>
 

@@ -403,7 +403,7 @@ TEST(BundleAdjuster, FocalPerImageRestSharedRecoversZoomAndDistortion) {
   EXPECT_NEAR(rec.CameraOf(1).params[Camera::kK2], 0.02, 0.01);
 }
 
-// The project's dense-Schur LM (the default up to 250 images) and Ceres' DENSE_SCHUR solve the
+// The project's Schur solver (ba/schur_solver.h, LM) and Ceres' DENSE_SCHUR solve the
 // same model: from the same start they reach the same minimum, for a global adjustment with the
 // mapper's shared principal point and robust loss, a local one with constant images and held
 // long-track points, and a shared camera (pose blocks apart from the camera block).

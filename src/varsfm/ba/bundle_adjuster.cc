@@ -11,7 +11,7 @@
 #include <ceres/ceres.h>
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
-#include "varsfm/ba/dense_schur_solver.h"
+#include "varsfm/ba/schur_solver.h"
 #include "varsfm/util/timer.h"
 
 #include <fmt/format.h>
@@ -41,9 +41,9 @@ using Solver = BundleAdjustmentOptions::Solver;
 // factorisation no longer fits.
 //
 // Since 2026-12-01 the project's own Levenberg-Marquardt with the points' Schur complement
-// (dense_schur_solver.h: dense or, for a banded camera graph, sparse factorisation) replaces
+// (schur_solver.h: dense or, for a banded camera graph, sparse factorisation) replaces
 // Ceres' DENSE_SCHUR and SPARSE_SCHUR, with the same iterations and minimum (tests/ba:
-// NativeSolver, DenseSchurSolver) in less time. Measured 2026-12-01 (2 cores, one thread),
+// NativeSolver, SchurSolver) in less time. Measured 2026-12-01 (2 cores, one thread),
 // native against Ceres (`--ba-solver ceres`, the former choice):
 //   fountain-P11 final global adjustment (11 images, 60,561 observations) 0.78 s (10
 //   iterations) against 2.06 s (11), same RMS and accuracy; whole mapper 3.7 s against 6.1 s;
@@ -573,10 +573,10 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   bool rms_from_solver = false;
   if (solver == Solver::kNativeDenseSchur) {
     result.solver = "NATIVE_DENSE_SCHUR";
-    // The blocks go to the solver directly (SchurProblem), the cost functions one after the
+    // The blocks go to the solver directly (LeastSquaresProblem), the cost functions one after the
     // other in a deque rather than one heap object each.
     std::deque<AnalyticReprojectionCost> costs;
-    SchurProblem problem;
+    LeastSquaresProblem problem;
     problem.Reserve(problem_images.size() * 2 + problem_points.size(), observations.size(),
                     observations.size() * 3);
     for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
@@ -588,21 +588,21 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     for (const ParameterBlockSpec& spec : specs)
       problem.AddParameterBlock(spec.x, spec.size, spec.manifold.get(), spec.constant);
 
-    DenseSchurOptions native;
+    SchurSolverOptions native;
     native.max_iterations = options.max_iterations;
     native.function_tolerance = options.function_tolerance;
     native.gradient_tolerance = options.gradient_tolerance;
     native.parameter_tolerance = options.parameter_tolerance;
     native.progress_to_stdout = options.verbose;
     if (options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg)
-      native.strategy = DenseSchurOptions::Strategy::kDogleg;
+      native.trust_region = SchurSolverOptions::TrustRegion::kDogleg;
     native.num_threads = options.num_threads > 0
                              ? options.num_threads
                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<double*> points;
     points.reserve(problem_points.size());
     for (const point3D_t id : problem_points) points.push_back(buffer.point(id));
-    const DenseSchurSummary summary = SolveWithDenseSchur(native, points, problem);
+    const SchurSolverSummary summary = SolveWithSchurComplement(native, points, problem);
     result.success = summary.usable;
     // The RMS from the solver's own residuals (one per observation): two passes over the
     // observations less (they took 3 % of a 100-image sequence's mapping).
@@ -616,7 +616,7 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
         "native Schur {} ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
         "{:.6e}; s: setup {:.4f}, "
         "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
-        native.strategy == DenseSchurOptions::Strategy::kDogleg ? "dogleg" : "LM",
+        native.trust_region == SchurSolverOptions::TrustRegion::kDogleg ? "dogleg" : "LM",
         summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
         summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
         summary.final_cost, summary.seconds_setup, summary.seconds_linearise,

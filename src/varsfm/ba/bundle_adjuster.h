@@ -15,7 +15,7 @@
 // and back afterwards. Ceres orders the blocks of each elimination group by address, so with the
 // blocks at their reconstruction's (heap) addresses the order, and the rounding of the solver's
 // sums, changed from run to run; in the buffer it is the same in every run. The native solver
-// (dense_schur_solver.h) sums in a fixed order with any number of threads; with more than one
+// (schur_solver.h) sums in a fixed order with any number of threads; with more than one
 // thread Ceres accumulates in a scheduling-dependent order, so its solvers run on one thread
 // unless asked for more.
 //
@@ -72,7 +72,7 @@ struct BundleAdjustmentOptions {
     kSparseSchurEigen,
     kIterativeSchur,
     // The project's own Levenberg-Marquardt with the Schur complement of the points
-    // (dense_schur_solver.h): the same model and reduced system as Ceres' DENSE_SCHUR /
+    // (schur_solver.h): the same model and reduced system as Ceres' DENSE_SCHUR /
     // SPARSE_SCHUR without Ceres' per-block overhead. kAuto's choice up to 5000 images.
     kNativeDenseSchur,
     // Ceres only, chosen by size (DENSE_SCHUR up to 250 images, SPARSE_SCHUR beyond): the

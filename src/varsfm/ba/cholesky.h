@@ -1,6 +1,6 @@
 #pragma once
 // The Cholesky solves of the native bundle adjuster's reduced camera system
-// (dense_schur_solver.cc), on the system BLAS (scripts/install_deps.sh makes it OpenBLAS, whose
+// (reduced_camera_system.cc), on the system BLAS (scripts/install_deps.sh makes it OpenBLAS, whose
 // kernels are chosen for the CPU at run time; serial, so the results are reproducible).
 //
 // Measured on the 2-core development machine (AMD EPYC, 2026-12-01; a random SPD matrix, and a

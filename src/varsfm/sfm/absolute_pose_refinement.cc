@@ -7,7 +7,7 @@
 #include <ceres/manifold.h>
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
-#include "varsfm/ba/dense_schur_solver.h"
+#include "varsfm/ba/schur_solver.h"
 
 namespace varsfm {
 
@@ -28,7 +28,7 @@ bool RefineAbsolutePose(const AbsolutePoseRefinementOptions& options,
   // system of at most 7 + 3 + 3 columns.
   double* q = cam_from_world->rotation.coeffs().data();
   double* t = cam_from_world->translation.data();
-  SchurProblem problem;
+  LeastSquaresProblem problem;
   problem.Reserve(3 + points3D.size(), points2D.size(), 4 * points2D.size());
   problem.AddParameterBlock(camera->params.data(), Camera::kNumParams, camera_manifold.get(),
                             camera_constant);
@@ -43,9 +43,9 @@ bool RefineAbsolutePose(const AbsolutePoseRefinementOptions& options,
     const double* blocks[] = {camera->params.data(), q, t, point};
     problem.AddResidualBlock(&costs.back(), &loss, blocks, 4);
   }
-  DenseSchurOptions solver;
+  SchurSolverOptions solver;
   solver.max_iterations = options.max_iterations;
-  const DenseSchurSummary summary = SolveWithDenseSchur(solver, /*eliminate=*/{}, problem);
+  const SchurSolverSummary summary = SolveWithSchurComplement(solver, /*eliminate=*/{}, problem);
   cam_from_world->rotation.normalize();
   return summary.usable;
 }

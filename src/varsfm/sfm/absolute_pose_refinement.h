@@ -1,7 +1,7 @@
 #pragma once
 // Non-linear refinement of one image's pose and free intrinsics from its 2D-3D correspondences,
 // the 3D points held fixed (the step after the DLT and its decomposition in section 4.3).
-// Solved by the project's bundle-adjustment solver (ba/dense_schur_solver.h, Levenberg-Marquardt
+// Solved by the project's bundle-adjustment solver (ba/schur_solver.h, Levenberg-Marquardt
 // as Ceres', the same cost and Cauchy loss), not through a ceres::Problem: a registration
 // refines two hypotheses of ~1000 correspondences, and building, evaluating and destroying a
 // ceres::Problem took two thirds of the registration's time. bench/scale's 1000-image street

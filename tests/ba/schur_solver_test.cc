@@ -1,4 +1,4 @@
-#include "varsfm/ba/dense_schur_solver.h"
+#include "varsfm/ba/schur_solver.h"
 
 #include <array>
 #include <cmath>
@@ -115,19 +115,19 @@ struct StreetProblem {
 
 // The sparse factorisation of a banded reduced system gives the dense one's steps: the same
 // iterations and minimum. kAuto picks it for this problem.
-TEST(DenseSchurSolver, SparseFactorisationEqualsDense) {
+TEST(SchurSolver, SparseFactorisationEqualsDense) {
   StreetProblem dense_problem, sparse_problem, auto_problem;
-  DenseSchurOptions options;
+  SchurSolverOptions options;
   options.function_tolerance = 1e-10;
-  options.factorization = DenseSchurOptions::Factorization::kDense;
-  const DenseSchurSummary dense =
-      SolveWithDenseSchur(options, dense_problem.PointBlocks(), &dense_problem.problem);
-  options.factorization = DenseSchurOptions::Factorization::kSparse;
-  const DenseSchurSummary sparse =
-      SolveWithDenseSchur(options, sparse_problem.PointBlocks(), &sparse_problem.problem);
-  options.factorization = DenseSchurOptions::Factorization::kAuto;
-  const DenseSchurSummary automatic =
-      SolveWithDenseSchur(options, auto_problem.PointBlocks(), &auto_problem.problem);
+  options.factorization = SchurSolverOptions::Factorization::kDense;
+  const SchurSolverSummary dense =
+      SolveWithSchurComplement(options, dense_problem.PointBlocks(), &dense_problem.problem);
+  options.factorization = SchurSolverOptions::Factorization::kSparse;
+  const SchurSolverSummary sparse =
+      SolveWithSchurComplement(options, sparse_problem.PointBlocks(), &sparse_problem.problem);
+  options.factorization = SchurSolverOptions::Factorization::kAuto;
+  const SchurSolverSummary automatic =
+      SolveWithSchurComplement(options, auto_problem.PointBlocks(), &auto_problem.problem);
   ASSERT_TRUE(dense.usable && sparse.usable) << dense.message << " / " << sparse.message;
   EXPECT_FALSE(dense.sparse);
   EXPECT_TRUE(sparse.sparse);
@@ -142,18 +142,18 @@ TEST(DenseSchurSolver, SparseFactorisationEqualsDense) {
 
 // The work is cut into fixed parts summed in a fixed order: any number of threads gives the
 // same iterations and the same minimum, bit for bit.
-TEST(DenseSchurSolver, SameResultBitForBitWithAnyNumberOfThreads) {
+TEST(SchurSolver, SameResultBitForBitWithAnyNumberOfThreads) {
   StreetProblem reference;
-  DenseSchurOptions options;
-  const DenseSchurSummary one =
-      SolveWithDenseSchur(options, reference.PointBlocks(), &reference.problem);
+  SchurSolverOptions options;
+  const SchurSolverSummary one =
+      SolveWithSchurComplement(options, reference.PointBlocks(), &reference.problem);
   ASSERT_TRUE(one.usable) << one.message;
   for (const int threads : {2, 3, 16}) {
     SCOPED_TRACE(threads);
     StreetProblem street;
     options.num_threads = threads;
-    const DenseSchurSummary summary =
-        SolveWithDenseSchur(options, street.PointBlocks(), &street.problem);
+    const SchurSolverSummary summary =
+        SolveWithSchurComplement(options, street.PointBlocks(), &street.problem);
     EXPECT_EQ(summary.successful_steps, one.successful_steps);
     EXPECT_EQ(summary.final_cost, one.final_cost);
     EXPECT_EQ(street.cameras, reference.cameras);
@@ -164,15 +164,16 @@ TEST(DenseSchurSolver, SameResultBitForBitWithAnyNumberOfThreads) {
 
 // Powell's dogleg reaches the minimum Levenberg-Marquardt and Ceres' DOGLEG reach, on the
 // banded street (sparse reduced system) with a robust loss.
-TEST(DenseSchurSolver, DoglegReachesTheMinimumAsLevenbergMarquardtAndCeresDogleg) {
+TEST(SchurSolver, DoglegReachesTheMinimumAsLevenbergMarquardtAndCeresDogleg) {
   StreetProblem lm, dogleg, reference;
-  DenseSchurOptions options;
+  SchurSolverOptions options;
   options.function_tolerance = 1e-12;
   options.gradient_tolerance = 1e-12;
-  const DenseSchurSummary lm_summary = SolveWithDenseSchur(options, lm.PointBlocks(), &lm.problem);
-  options.strategy = DenseSchurOptions::Strategy::kDogleg;
-  const DenseSchurSummary dl_summary =
-      SolveWithDenseSchur(options, dogleg.PointBlocks(), &dogleg.problem);
+  const SchurSolverSummary lm_summary =
+      SolveWithSchurComplement(options, lm.PointBlocks(), &lm.problem);
+  options.trust_region = SchurSolverOptions::TrustRegion::kDogleg;
+  const SchurSolverSummary dl_summary =
+      SolveWithSchurComplement(options, dogleg.PointBlocks(), &dogleg.problem);
   ASSERT_TRUE(lm_summary.usable && dl_summary.usable)
       << lm_summary.message << " / " << dl_summary.message;
   EXPECT_TRUE(dl_summary.converged) << dl_summary.message;
@@ -201,7 +202,7 @@ TEST(DenseSchurSolver, DoglegReachesTheMinimumAsLevenbergMarquardtAndCeresDogleg
     }
 }
 
-TEST(DenseSchurSolver, FitsACurveAsCeresDoes) {
+TEST(SchurSolver, FitsACurveAsCeresDoes) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.2);
   std::vector<std::pair<double, double>> data;
@@ -217,9 +218,9 @@ TEST(DenseSchurSolver, FitsACurveAsCeresDoes) {
                                    new ExponentialResidual(x, y)),
                                nullptr, &mc[0], &mc[1]);
     if (mc == native) {
-      DenseSchurOptions options;
+      SchurSolverOptions options;
       options.function_tolerance = 1e-12;
-      const DenseSchurSummary s = SolveWithDenseSchur(options, {}, &problem);
+      const SchurSolverSummary s = SolveWithSchurComplement(options, {}, &problem);
       EXPECT_TRUE(s.usable && s.converged) << s.message;
       EXPECT_LT(s.final_cost, s.initial_cost);
     } else {
@@ -234,7 +235,7 @@ TEST(DenseSchurSolver, FitsACurveAsCeresDoes) {
   EXPECT_NEAR(native[0], 0.3, 0.02);
 }
 
-TEST(DenseSchurSolver, EliminatesPointsOnAManifoldWithARobustLoss) {
+TEST(SchurSolver, EliminatesPointsOnAManifoldWithARobustLoss) {
   std::mt19937 rng(5);
   std::normal_distribution<double> n(0.0, 1.0);
   const Eigen::Quaterniond truth(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
@@ -265,10 +266,10 @@ TEST(DenseSchurSolver, EliminatesPointsOnAManifoldWithARobustLoss) {
   }
   std::vector<double*> points;
   for (Eigen::Vector3d& x : native.x) points.push_back(x.data());
-  DenseSchurOptions options;
+  SchurSolverOptions options;
   options.function_tolerance = 1e-14;
   options.gradient_tolerance = 1e-14;
-  const DenseSchurSummary s = SolveWithDenseSchur(options, points, &native.problem);
+  const SchurSolverSummary s = SolveWithSchurComplement(options, points, &native.problem);
   ASSERT_TRUE(s.usable) << s.message;
   ceres::Solver::Options ceres_options;
   ceres_options.function_tolerance = 1e-14;
@@ -282,7 +283,7 @@ TEST(DenseSchurSolver, EliminatesPointsOnAManifoldWithARobustLoss) {
   EXPECT_LT(Eigen::Quaterniond(native.q).angularDistance(truth), 0.01);
 }
 
-TEST(DenseSchurSolver, StopsAtTheIterationLimitWithAUsableSolution) {
+TEST(SchurSolver, StopsAtTheIterationLimitWithAUsableSolution) {
   double mc[2] = {0.0, 0.0};
   ceres::Problem problem;
   for (int i = 0; i < 20; ++i) {
@@ -291,18 +292,18 @@ TEST(DenseSchurSolver, StopsAtTheIterationLimitWithAUsableSolution) {
                                  new ExponentialResidual(x, std::exp(0.3 * x + 0.1))),
                              nullptr, &mc[0], &mc[1]);
   }
-  DenseSchurOptions options;
+  SchurSolverOptions options;
   options.max_iterations = 2;
-  const DenseSchurSummary s = SolveWithDenseSchur(options, {}, &problem);
+  const SchurSolverSummary s = SolveWithSchurComplement(options, {}, &problem);
   EXPECT_TRUE(s.usable);
   EXPECT_FALSE(s.converged);
   EXPECT_EQ(s.successful_steps + s.unsuccessful_steps, 2);
   EXPECT_LE(s.final_cost, s.initial_cost);
 }
 
-// The mapper hands the solver its blocks directly (SchurProblem); the same blocks through a
+// The mapper hands the solver its blocks directly (LeastSquaresProblem); the same blocks through a
 // ceres::Problem must give the same steps and minimum, bit for bit.
-TEST(DenseSchurSolver, SchurProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
+TEST(SchurSolver, LeastSquaresProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, 0.2);
   std::vector<std::unique_ptr<ceres::CostFunction>> costs;
@@ -313,7 +314,7 @@ TEST(DenseSchurSolver, SchurProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
   }
   double direct[2] = {0.0, 0.0}, through_ceres[2] = {0.0, 0.0};
   ceres::CauchyLoss loss(1.0);
-  SchurProblem problem;
+  LeastSquaresProblem problem;
   problem.AddParameterBlock(&direct[0], 1);
   problem.AddParameterBlock(&direct[1], 1);
   ceres::Problem::Options ceres_options;
@@ -327,9 +328,9 @@ TEST(DenseSchurSolver, SchurProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
     problem.AddResidualBlock(costs.back().get(), &loss, blocks, 2);
     reference.AddResidualBlock(costs.back().get(), &loss, &through_ceres[0], &through_ceres[1]);
   }
-  const DenseSchurOptions options;
-  const DenseSchurSummary a = SolveWithDenseSchur(options, {}, problem);
-  const DenseSchurSummary b = SolveWithDenseSchur(options, {}, &reference);
+  const SchurSolverOptions options;
+  const SchurSolverSummary a = SolveWithSchurComplement(options, {}, problem);
+  const SchurSolverSummary b = SolveWithSchurComplement(options, {}, &reference);
   ASSERT_TRUE(a.usable && a.converged) << a.message;
   EXPECT_EQ(a.successful_steps, b.successful_steps);
   EXPECT_EQ(a.final_cost, b.final_cost);
@@ -338,14 +339,14 @@ TEST(DenseSchurSolver, SchurProblemSolvesAsTheCeresProblemWithTheSameBlocks) {
   EXPECT_NEAR(direct[0], 0.3, 0.05);
 }
 
-TEST(DenseSchurSolver, RefusesAResidualOnABlockTheProblemDoesNotHave) {
+TEST(SchurSolver, RefusesAResidualOnABlockTheProblemDoesNotHave) {
   double m = 0.0, c = 0.0;
   ceres::AutoDiffCostFunction<ExponentialResidual, 1, 1, 1> cost(new ExponentialResidual(1, 2));
-  SchurProblem problem;
+  LeastSquaresProblem problem;
   problem.AddParameterBlock(&m, 1);  // c is never added
   const double* blocks[2] = {&m, &c};
   problem.AddResidualBlock(&cost, nullptr, blocks, 2);
-  const DenseSchurSummary s = SolveWithDenseSchur(DenseSchurOptions(), {}, problem);
+  const SchurSolverSummary s = SolveWithSchurComplement(SchurSolverOptions(), {}, problem);
   EXPECT_FALSE(s.usable);
   EXPECT_NE(s.message.find("does not have"), std::string::npos) << s.message;
   EXPECT_EQ(m, 0.0);
