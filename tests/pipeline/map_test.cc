@@ -108,6 +108,7 @@ TEST(MapStage, UnconnectedScenesGiveAModelEachLargestFirst) {
   options.output = out;
   const MapResult result = RunMapping(options);
   EXPECT_EQ(result.reconstruction.NumRegisteredImages(), large.size());
+  EXPECT_EQ(result.num_images, small.size() + large.size() + 1);
 
   EXPECT_EQ(RegisteredNames(out / "sparse" / "0"),
             std::set<std::string>(large.begin(), large.end()));

@@ -280,6 +280,7 @@ MapResult RunMapping(const MapOptions& options) {
     info("map: {} models in {}/sparse/0 .. {}, {:.2f} s", built.models.size(),
          options.output.string(), built.models.size() - 1, result.seconds);
   result.mapper = mapper;
+  result.num_images = num_images;
   result.reconstruction = std::move(built.models.front().reconstruction);
   result.more_models.assign(std::make_move_iterator(built.models.begin() + 1),
                             std::make_move_iterator(built.models.end()));

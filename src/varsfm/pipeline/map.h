@@ -30,9 +30,11 @@ struct MapOptions {
 };
 
 struct MapResult {
-  // Model 0 (OUT/sparse/0, the one the other outputs describe): the largest.
+  // Model 0 (OUT/sparse/0, the one the other outputs describe): the largest. It holds every
+  // image when it was the first built, else only those left for it (num_images counts all).
   MapperSummary mapper;
   Reconstruction reconstruction;
+  size_t num_images = 0;  // in the workspace, with features
   // Models 1, 2, ... (OUT/sparse/1, ...): of the images model 0 could not register, as COLMAP's
   // mapper builds them (sfm/multi_model_mapper.h); and the images in no model, with why.
   std::vector<MapperModel> more_models;

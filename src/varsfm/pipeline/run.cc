@@ -138,8 +138,9 @@ RunResult RunAll(const RunOptions& options) {
     warn("run: no report: {}", e.what());
   }
   const Reconstruction& model = result.map.reconstruction;
-  info("run: {}/{} images registered, {} points, RMS {:.3f} px, {:.1f} s; report: {}",
-       model.NumRegisteredImages(), model.images().size(), model.points3D().size(),
+  info("run: {}/{} images registered{}, {} points, RMS {:.3f} px, {:.1f} s; report: {}",
+       model.NumRegisteredImages(), result.map.num_images,
+       num_models > 1 ? fmt::format(" in model 0 of {}", num_models) : "", model.points3D().size(),
        model.RmsReprojectionError(),
        result.seconds_extract + result.seconds_match + result.seconds_map + result.seconds_densify +
            result.seconds_mesh + result.seconds_texture,
