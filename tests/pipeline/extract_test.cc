@@ -349,6 +349,27 @@ TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
   EXPECT_EQ(Database(workspace).NumImages(), total);
 }
 
+// Keyframes an earlier extraction chose with other keyframe settings and this one does not
+// leave the workspace (the cap removed their files).
+TEST(ExtractCommand, OtherKeyframeSettingsReplaceTheEarlierKeyframes) {
+  TempDir dir("extract_video_settings");
+  const fs::path video = dir.path() / "pan.avi";
+  WritePanVideo(video, 30, {});
+  const fs::path workspace = dir.path() / "ws.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 6"), &out), 0)
+      << out;
+  ASSERT_EQ(Database(workspace).NumImages(), 6u);
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 3"), &out), 0)
+      << out;
+  Database db(workspace);
+  EXPECT_EQ(db.NumImages(), 3u);
+  EXPECT_EQ(db.NumCameras(), 3u);
+  for (const DbImage& image : db.ReadAllImages()) {
+    EXPECT_TRUE(fs::is_regular_file(VideoFramesDir(workspace) / image.name)) << image.name;
+  }
+}
+
 // Bad input: a one-line error, a non-zero exit, and the workspace untouched (or not created).
 class ExtractBadInput : public ::testing::Test {
  protected:

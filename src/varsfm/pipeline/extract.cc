@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <tbb/parallel_pipeline.h>
@@ -71,6 +72,7 @@ struct Extracted {
 struct InputImages {
   fs::path dir;
   std::vector<std::string> names;
+  std::string video_folder;  // video input: the names' folder, with its trailing '/'
 };
 
 InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
@@ -93,6 +95,7 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
          input.dir.string());
     if (keyframes.names.empty()) Fail("no sharp frame in video {}", options.video.string());
     input.names = std::move(keyframes.names);
+    input.video_folder = input.names[0].substr(0, input.names[0].find('/') + 1);
   }
   return input;
 }
@@ -171,6 +174,37 @@ ExtractionPlan PlanExtraction(Database& db, ResultSettings& record, int64_t sett
   return plan;
 }
 
+// Keyframes of the video that an earlier extraction chose and this one did not (other keyframe
+// settings) are stale: their images leave the workspace with their pairs, and their files go
+// (the keyframe cap may have removed them already).
+void RemoveEarlierKeyframes(Database& db, ResultSettings& record, const InputImages& input) {
+  if (input.video_folder.empty()) return;
+  const std::unordered_set<std::string> keyframes(input.names.begin(), input.names.end());
+  const std::vector<DbImage> images = db.ReadAllImages();
+  std::vector<DbImage> stale;
+  for (const DbImage& image : images) {
+    if (image.name.starts_with(input.video_folder) && !keyframes.contains(image.name)) {
+      stale.push_back(image);
+    }
+  }
+  if (stale.empty()) return;
+  Database::Transaction transaction(db);
+  for (const DbImage& image : stale) {
+    for (const DbImage& other : images) {
+      if (other.image_id == image.image_id) continue;
+      db.DeletePair(image.image_id, other.image_id);
+      record.DeletePairSettings(image.image_id, other.image_id);
+    }
+    db.DeleteImage(image.image_id);
+    db.DeleteCamera(image.camera_id);
+  }
+  transaction.Commit();
+  std::error_code ec;
+  for (const DbImage& image : stale) fs::remove(input.dir / image.name, ec);
+  info("{} keyframes chosen by an earlier extraction with other keyframe settings removed",
+       stale.size());
+}
+
 // Removes `images` and their cameras, in one transaction (best effort: this runs while an error
 // is on its way out, and reports its own failure only in the log).
 void RemoveImages(Database& db, const std::vector<DbImage>& images) {
@@ -203,6 +237,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   std::vector<DbImage> added;  // image and camera ids written by this run
   ResultSettings record(db);
   const int64_t settings = record.Id("extract", FeatureSettings(options.sift));
+  RemoveEarlierKeyframes(db, record, input);
   const ExtractionPlan plan = PlanExtraction(db, record, settings, input.names, unusable);
   summary.num_existing = plan.num_existing;
   const std::vector<size_t>& todo = plan.todo;
