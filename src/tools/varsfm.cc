@@ -183,6 +183,10 @@ int main(int argc, char** argv) {
     cmd->add_option("--threads", match.num_threads, "worker threads (0: all cores)")
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--commit-interval", match.commit_interval,
+                    "seconds between commits: the most work a kill loses")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--seed", match.seed, "random seed")->capture_default_str();
     cmd->callback([&match] { varsfm::RunMatching(match); });
   }
