@@ -54,11 +54,13 @@ void SaveInput() {
   ::close(fd);
 }
 
+#ifndef VARSFM_SMOKE_SANITIZED
 void OnSignal(int signal) {
   SaveInput();
   std::signal(signal, SIG_DFL);
   std::raise(signal);
 }
+#endif
 
 void OnTerminate() {
   SaveInput();
