@@ -16,6 +16,7 @@
 #include "varsfm/report/html_text.h"
 #include "varsfm/report/report.h"
 #include "varsfm/report/svg_chart.h"
+#include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -196,6 +197,36 @@ TEST(DisplayModel, QuantisedCopyKeepsEveryTriangleWithinOneStep) {
   const cv::Vec3b red = page.at<cv::Vec3b>(32, 16);
   EXPECT_GT(red[2], 200);
   EXPECT_LT(red[1], 50);
+}
+
+TEST(VertexClustering, LeavesAboutTheFacesAskedForOnTheSurface) {
+  // A 300 x 300 grid of squares on the plane z = 0: 180 000 triangles, texture coordinates
+  // running across it.
+  ClusteredPart grid;
+  const int n = 300;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      grid.positions.insert(grid.positions.end(), {i / float(n), j / float(n), 0.f});
+      grid.uvs.insert(grid.uvs.end(), {i / float(n), j / float(n)});
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      grid.indices.insert(grid.indices.end(), {a, b, c, a, c, d});
+    }
+  const std::vector<ClusteredPart> out = ClusterVertices({grid}, 20000);
+  ASSERT_EQ(out.size(), 1u);
+  const size_t faces = out[0].indices.size() / 3;
+  EXPECT_LE(faces, 20000u);
+  EXPECT_GE(faces, 10000u);
+  ASSERT_EQ(out[0].uvs.size() / 2, out[0].positions.size() / 3);
+  for (size_t v = 0; v < out[0].positions.size() / 3; ++v) {
+    // One chart: a vertex's texture coordinate stays where its position is.
+    EXPECT_NEAR(out[0].uvs[2 * v], out[0].positions[3 * v], 0.02);
+    EXPECT_NEAR(out[0].uvs[2 * v + 1], out[0].positions[3 * v + 1], 0.02);
+    EXPECT_EQ(out[0].positions[3 * v + 2], 0.f);
+  }
+  EXPECT_EQ(ClusterVertices({grid}, 200000)[0].indices, grid.indices);  // under the budget
 }
 
 TEST(DisplayModel, NotAGlbIsOneLineError) {

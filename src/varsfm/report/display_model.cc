@@ -14,6 +14,7 @@
 
 #include "varsfm/image/image_file.h"
 #include "varsfm/image/jpeg_codec.h"
+#include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -249,48 +250,47 @@ std::vector<uint8_t> CompactGlbForDisplay(const std::vector<uint8_t>& bytes,
                                           const DisplayModelOptions& options) {
   const Glb glb = ParseGlb(bytes);
   try {
-    struct Primitive {
-      std::vector<float> positions, uvs;
-      std::vector<uint32_t> indices;
-      std::optional<size_t> image;
-    };
-    std::vector<Primitive> primitives;
-    std::array<float, 3> low, high;
-    low.fill(std::numeric_limits<float>::max());
-    high.fill(-std::numeric_limits<float>::max());
+    std::vector<ClusteredPart> parts;
+    std::vector<std::optional<size_t>> images;  // per part: the atlas page
     for (const json& mesh : glb.gltf.value("meshes", json::array())) {
       for (const json& p : mesh.at("primitives")) {
         if (p.value("mode", 4) != 4) Fail("model.glb: a primitive is not made of triangles");
-        Primitive prim;
-        prim.positions = ReadFloats(glb, p.at("attributes").at("POSITION"), 3);
+        ClusteredPart part;
+        part.positions = ReadFloats(glb, p.at("attributes").at("POSITION"), 3);
         if (p.at("attributes").contains("TEXCOORD_0"))
-          prim.uvs = ReadFloats(glb, p["attributes"]["TEXCOORD_0"], 2);
+          part.uvs = ReadFloats(glb, p["attributes"]["TEXCOORD_0"], 2);
         if (p.contains("indices")) {
-          prim.indices = ReadIndices(glb, p["indices"]);
+          part.indices = ReadIndices(glb, p["indices"]);
         } else {
-          prim.indices.resize(prim.positions.size() / 3);
-          for (size_t i = 0; i < prim.indices.size(); ++i) prim.indices[i] = i;
+          part.indices.resize(part.positions.size() / 3);
+          for (size_t i = 0; i < part.indices.size(); ++i) part.indices[i] = i;
         }
-        const size_t n = prim.positions.size() / 3;
-        if (std::any_of(prim.indices.begin(), prim.indices.end(),
+        const size_t n = part.positions.size() / 3;
+        if (std::any_of(part.indices.begin(), part.indices.end(),
                         [n](uint32_t i) { return i >= n; }))
           Fail("model.glb: an index is out of range");
-        for (size_t i = 0; i < n; ++i)
-          for (int k = 0; k < 3; ++k) {
-            low[k] = std::min(low[k], prim.positions[3 * i + k]);
-            high[k] = std::max(high[k], prim.positions[3 * i + k]);
-          }
+        std::optional<size_t> image;
         if (p.contains("material")) {
           const json& material = glb.gltf.at("materials").at(p["material"].get<size_t>());
           const json texture = material.value("pbrMetallicRoughness", json::object())
                                    .value("baseColorTexture", json::object());
           if (texture.contains("index"))
-            prim.image = glb.gltf.at("textures").at(texture["index"].get<size_t>()).at("source");
+            image = glb.gltf.at("textures").at(texture["index"].get<size_t>()).at("source");
         }
-        primitives.push_back(std::move(prim));
+        parts.push_back(std::move(part));
+        images.push_back(image);
       }
     }
-    if (primitives.empty()) Fail("model.glb: no mesh");
+    if (parts.empty()) Fail("model.glb: no mesh");
+    parts = ClusterVertices(parts, options.max_faces);
+    std::array<float, 3> low, high;
+    low.fill(std::numeric_limits<float>::max());
+    high.fill(-std::numeric_limits<float>::max());
+    for (const ClusteredPart& part : parts)
+      for (size_t i = 0; i < part.positions.size(); ++i) {
+        low[i % 3] = std::min(low[i % 3], part.positions[i]);
+        high[i % 3] = std::max(high[i % 3], part.positions[i]);
+      }
 
     GlbBuilder out;
     out.gltf["samplers"] = {
@@ -299,16 +299,17 @@ std::vector<uint8_t> CompactGlbForDisplay(const std::vector<uint8_t>& bytes,
     out.gltf["extensionsRequired"] = {"KHR_mesh_quantization"};
     std::map<size_t, size_t> texture_of_image;
     json gltf_primitives = json::array();
-    for (const Primitive& prim : primitives) {
-      json primitive = AddPrimitive(prim.positions, prim.uvs, prim.indices, low, high, &out);
+    for (size_t i = 0; i < parts.size(); ++i) {
+      json primitive =
+          AddPrimitive(parts[i].positions, parts[i].uvs, parts[i].indices, low, high, &out);
       json material = {{"doubleSided", true},
                        {"extensions", {{"KHR_materials_unlit", json::object()}}},
                        {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}};
-      if (prim.image) {
-        if (!texture_of_image.count(*prim.image))
-          texture_of_image[*prim.image] = AddTexture(glb, *prim.image, options, &out);
+      if (images[i]) {
+        if (!texture_of_image.count(*images[i]))
+          texture_of_image[*images[i]] = AddTexture(glb, *images[i], options, &out);
         material["pbrMetallicRoughness"]["baseColorTexture"] = {
-            {"index", texture_of_image[*prim.image]}};
+            {"index", texture_of_image[*images[i]]}};
       }
       out.gltf["materials"].push_back(material);
       primitive["material"] = out.gltf["materials"].size() - 1;
