@@ -28,20 +28,16 @@ PointCloud LimitPoints(const PointCloud& cloud, size_t max_points) {
   return reduced;
 }
 
-// The side of the cube the reconstruction solves in: the points' bounding cube enlarged 1.1x.
-double OctreeCube(const PointCloud& cloud) {
+// The octree depth whose finest cells over the points' bounding cube (enlarged 1.1x, as the
+// reconstruction does) are about cell_spacing x spacing wide, clamped. The octree is refined
+// only around the samples, so a cube inflated by a few far outliers costs depth, not memory.
+int ChooseDepth(const PointCloud& cloud, double spacing, const SurfaceOptions& options) {
   Eigen::Vector3d lo = cloud.points[0], hi = cloud.points[0];
   for (const Eigen::Vector3d& p : cloud.points) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  return 1.1 * (hi - lo).maxCoeff();
-}
-
-// The octree depth whose finest cells are about cell_spacing x spacing wide, clamped. The
-// octree is refined only around the samples, so a cube inflated by a few far outliers costs
-// depth, not memory.
-int ChooseDepth(double cube, double spacing, const SurfaceOptions& options) {
+  const double cube = 1.1 * (hi - lo).maxCoeff();
   const double cells = cube / (options.cell_spacing * spacing);
   const int depth = static_cast<int>(std::lround(std::log2(std::max(cells, 1.0))));
   return std::clamp(depth, options.min_depth, options.max_depth);
@@ -126,9 +122,7 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
   if (options.method == SurfaceMethod::kScreenedPoisson) {
     spacing = AverageNearestSpacing(cloud.points);
     s.used_points = cloud.points.size();
-    const double cube = OctreeCube(cloud);
-    s.depth = ChooseDepth(cube, spacing, options);
-    s.cell_width = cube / std::pow(2.0, s.depth);
+    s.depth = ChooseDepth(cloud, spacing, options);
     spdlog::info("surface: screened Poisson on {} points, average spacing {:.4g}, depth {}",
                  cloud.points.size(), spacing, s.depth);
     ScreenedPoissonSurface surface =
@@ -148,11 +142,7 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
   }
   s.average_spacing = spacing;
   const bool trim = poisson && options.trim_factor > 0;
-  // The surface is resolved to a finest cell, so even on well-sampled parts a vertex can lie
-  // about a cell from the nearest sample: the reach is counted in cells when they are wider
-  // than the spacing.
-  const double reach = (trim ? options.trim_factor : 3.0) * std::max(spacing, s.cell_width);
-  s.trim_distance = trim ? reach : 0;
+  const double reach = (trim ? options.trim_factor : 3.0) * spacing;
   TrimAndColour(cloud, reach, trim, &mesh);
   if (mesh.faces.empty()) Fail("surface reconstruction left no faces after trimming");
   s.quality = MeasureMeshQuality(mesh, cloud.points, spacing);

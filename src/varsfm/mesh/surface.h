@@ -45,8 +45,8 @@ struct SurfaceOptions {
   // triangulation's cost grows quickly with the point count).
   size_t max_points = 60000;
   // Screened Poisson: faces with a vertex farther than trim_factor x the average point spacing
-  // (or x the finest cell width, when larger) from every input point are removed, so the closed
-  // implicit surface does not balloon over holes. <= 0 keeps the whole surface.
+  // from every input point are removed, so the closed implicit surface does not balloon over
+  // holes. <= 0 keeps the whole surface.
   double trim_factor = 3.0;
   MeshQualityLimits quality;
   void Check() const;  // throws varsfm::Error naming the first bad option
@@ -56,9 +56,7 @@ struct SurfaceStats {
   size_t input_points = 0;
   size_t used_points = 0;  // after downsampling (advancing front)
   double average_spacing = 0;
-  int depth = 0;             // screened Poisson's octree depth
-  double cell_width = 0;     // and the width of its finest cells
-  double trim_distance = 0;  // faces farther than this from every point were removed
+  int depth = 0;  // screened Poisson's octree depth
   size_t faces_before_trim = 0;
   MeshQuality quality;  // of the final mesh against the input points
 };
