@@ -3,6 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "io/synthetic_model.h"
 #include "support/test_data.h"
@@ -95,6 +100,29 @@ TEST(Bundler, FileStructureAndProjectionConvention) {
     }
   }
   EXPECT_EQ(num_views_checked, rec.NumObservations());
+}
+
+// The warning about what Bundler's format cannot hold names bundle.out, not the temporary file
+// it is written to first.
+TEST(Bundler, WarningNamesTheFinalFile) {
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 50;
+  Reconstruction rec = testing::ModelFromSynthetic(GenerateSyntheticScene(o));
+  const camera_t camera_id = rec.image(1).camera_id;
+  rec.camera(camera_id).params[Camera::kU0] += 10;  // a principal point Bundler cannot hold
+
+  std::ostringstream log;
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_st>(log)));
+  testing::TempDir tmp("bundler_warning");
+  WriteBundler(rec, tmp.path() / "bundle.out", tmp.path() / "list.txt");
+  spdlog::set_default_logger(previous);
+
+  EXPECT_NE(log.str().find((tmp.path() / "bundle.out").string() + ": 1 cameras"), std::string::npos)
+      << log.str();
+  EXPECT_EQ(log.str().find(".tmp"), std::string::npos) << log.str();
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "varsfm/geometry/triangulation.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -402,6 +403,21 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
       st.num_pairs, st.num_matches, st.num_triangulated, st.num_points, st.seconds_undistort,
       st.seconds_propagation, st.seconds_fusion, st.seconds_normals);
   return cloud;
+}
+
+void DensifyOptions::Check() const {
+  CheckInRange("--partners", max_partners, 1, 10);
+  CheckAtLeast("min_shared_points", min_shared_points, 1);
+  CheckInRange("min_pair_angle_deg", min_pair_angle_deg, 0, 180);
+  CheckInRange("max_pair_angle_deg", max_pair_angle_deg, min_pair_angle_deg, 180.0);
+  CheckAtLeast("--max-image-size", max_image_size, 16);
+  propagation.Check();
+  CheckInRange("min_point_angle_deg", min_point_angle_deg, 0, 180);
+  CheckGreaterThan("max_reprojection_error", max_reprojection_error, 0);
+  CheckAtLeast("fusion_depth_tolerance", fusion_depth_tolerance, 0);
+  CheckAtLeast("min_views", min_views, 2);
+  CheckAtLeast("normal_neighbors", normal_neighbors, 3);
+  CheckAtLeast("--threads", num_threads, 0);
 }
 
 }  // namespace varsfm

@@ -36,6 +36,8 @@ struct DensifyOptions {
   int min_views = 2;  // observations a fused point needs (2: one pair)
   int normal_neighbors = 20;
   int num_threads = 0;  // 0: all cores
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // The undistorted, possibly downscaled image of a registered view and its pinhole camera.

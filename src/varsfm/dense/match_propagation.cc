@@ -7,6 +7,7 @@
 
 #include "varsfm/dense/zncc.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -195,6 +196,14 @@ std::vector<QuasiDenseMatch> PropagateMatches(const cv::Mat& gray1, const cv::Ma
     }
   }
   return matches;
+}
+
+void PropagationOptions::Check() const {
+  CheckAtLeast("window_radius", window_radius, 1);
+  CheckInRange("--min-zncc", min_zncc, -1, 1);
+  CheckAtLeast("min_gradient", min_gradient, 0);
+  CheckAtLeast("min_window_std", min_window_std, 0);
+  CheckGreaterThan("max_epipolar_distance", max_epipolar_distance, 0);
 }
 
 }  // namespace varsfm

@@ -29,6 +29,8 @@ struct PropagationOptions {
   double max_epipolar_distance = 1.5;  // px, only when F is given
   bool subpixel = true;                // parabola fit of ZNCC in image 2 (one axis at a time)
   size_t max_matches = 0;              // 0: no cap
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct SeedMatch {

@@ -1,4 +1,5 @@
 #include "varsfm/eval/alignment.h"
+#include "varsfm/util/option_check.h"
 
 #include <array>
 #include <optional>
@@ -101,6 +102,11 @@ AlignmentResult AlignSimilarity(const std::vector<Eigen::Vector3d>& source,
   for (size_t i : chosen) result.inliers[i] = true;
   result.num_inliers = chosen.size();
   return result;
+}
+
+void AlignmentOptions::Check() const {
+  CheckAtLeast("--inlier-threshold", inlier_threshold, 0);
+  CheckAtLeast("max_trials", max_trials, 1);
 }
 
 }  // namespace varsfm

@@ -31,6 +31,8 @@ struct AlignmentOptions {
   double inlier_threshold = 0.0;
   int max_trials = 2000;  // all triples are tried when there are no more than this
   uint64_t seed = kDefaultSeed;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct AlignmentResult {

@@ -1,4 +1,5 @@
 #include "varsfm/eval/evaluate.h"
+#include "varsfm/util/option_check.h"
 
 #include <fmt/format.h>
 
@@ -224,5 +225,7 @@ std::string FormatReport(const EvaluationReport& r) {
                      e.registered && r.aligned ? (e.alignment_inlier ? "yes" : "no") : "-"));
   return out;
 }
+
+void EvaluationOptions::Check() const { alignment.Check(); }
 
 }  // namespace varsfm

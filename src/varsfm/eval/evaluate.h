@@ -18,6 +18,8 @@ namespace varsfm {
 
 struct EvaluationOptions {
   AlignmentOptions alignment;  // inlier_threshold > 0 makes the alignment robust (RANSAC)
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct ErrorStats {

@@ -10,6 +10,7 @@
 
 #include "varsfm/feature/rootsift.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -92,6 +93,13 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   features.descriptors = RootSiftDescriptors(kept);
   if (features.descriptors.rows() == 0) features.descriptors.resize(0, 128);
   return features;
+}
+
+void SiftOptions::Check() const {
+  CheckAtLeast("--max-features", max_features, 1);
+  CheckAtLeast("--max-image-size", max_image_size, 16);
+  CheckGreaterThan("--contrast-threshold", contrast_threshold, 0);
+  CheckGreaterThan("edge_threshold", edge_threshold, 0);
 }
 
 }  // namespace varsfm

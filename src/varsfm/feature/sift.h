@@ -20,6 +20,8 @@ struct SiftOptions {
   // (0.02: 88,192 and 30,926; COLMAP 3.8: 94,691 and 34,058).
   double contrast_threshold = 0.013;
   double edge_threshold = 10.0;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct ImageFeatures {

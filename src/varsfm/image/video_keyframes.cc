@@ -13,6 +13,7 @@
 #include "varsfm/image/video_reader.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -192,6 +193,17 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
     summary.names = std::move(kept);
   }
   return summary;
+}
+
+void KeyframeOptions::Check() const {
+  CheckAtLeast("blur_ratio", blur_ratio, 0);
+  CheckAtLeast("blur_frames_before", blur_frames_before, 0);
+  CheckAtLeast("blur_frames_after", blur_frames_after, 0);
+  CheckAtLeast("min_motion", min_motion, 0);
+  CheckInRange("min_tracked", min_tracked, 0, 1);
+  CheckAtLeast("--max-frames", max_frames, 0);
+  CheckAtLeast("analysis_size", analysis_size, 16);
+  CheckInRange("jpeg_quality", jpeg_quality, 1, 100);
 }
 
 }  // namespace varsfm

@@ -29,6 +29,8 @@ struct KeyframeOptions {
   // keyframes themselves are written at full resolution).
   int analysis_size = 640;
   int jpeg_quality = 95;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct KeyframeSummary {

@@ -26,20 +26,21 @@ double BundlerModelDeviation(const Camera& camera) {
   return std::hypot(p[Camera::kU0] - 0.5 * camera.width, p[Camera::kV0] - 0.5 * camera.height);
 }
 
-void WriteList(const Reconstruction& rec, const fs::path& file) {
+// Both writers fill `file`, a temporary; messages name `shown`, the file it becomes.
+void WriteList(const Reconstruction& rec, const fs::path& file, const fs::path& shown) {
   std::ofstream out(file);
-  if (!out) Fail("{}: cannot open for writing", file.string());
+  if (!out) Fail("{}: cannot open for writing", shown.string());
   for (const auto& [id, image] : rec.images()) out << image.name << '\n';
   out.close();
-  if (!out) Fail("{}: write failed", file.string());
+  if (!out) Fail("{}: write failed", shown.string());
 }
 
-void WriteBundle(const Reconstruction& rec, const fs::path& file) {
+void WriteBundle(const Reconstruction& rec, const fs::path& file, const fs::path& shown) {
   std::map<image_t, int> index;  // image id -> Bundler camera index (0-based, list.txt order)
   for (const auto& [id, image] : rec.images()) index.emplace(id, static_cast<int>(index.size()));
 
   std::ofstream out(file);
-  if (!out) Fail("{}: cannot open for writing", file.string());
+  if (!out) Fail("{}: cannot open for writing", shown.string());
   out << "# Bundle file v0.3\n" << fmt::format("{} {}\n", index.size(), rec.points3D().size());
   const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
   size_t num_dropped = 0;
@@ -65,7 +66,7 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
     warn(
         "{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
         "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
-        file.string(), num_dropped, worst_deviation);
+        shown.string(), num_dropped, worst_deviation);
   fmt::memory_buffer buffer;  // one line at a time: see WriteImagesText (colmap_model.cc)
   for (const auto& [id, point] : rec.points3D()) {
     buffer.clear();
@@ -83,7 +84,7 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file) {
     out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   }
   out.close();
-  if (!out) Fail("{}: write failed", file.string());
+  if (!out) Fail("{}: write failed", shown.string());
 }
 
 }  // namespace
@@ -96,14 +97,16 @@ void WriteBundler(const Reconstruction& rec, const fs::path& bundle_file,
   const fs::path bundle_tmp = temp_of(bundle_file), list_tmp = temp_of(list_file);
   std::error_code ec;
   try {
-    WriteBundle(rec, bundle_tmp);
-    WriteList(rec, list_tmp);
+    WriteBundle(rec, bundle_tmp, bundle_file);
+    WriteList(rec, list_tmp, list_file);
     fs::rename(bundle_tmp, bundle_file);
     fs::rename(list_tmp, list_file);
   } catch (const fs::filesystem_error& e) {
     fs::remove(bundle_tmp, ec);
     fs::remove(list_tmp, ec);
-    Fail("{}: cannot write: {}", e.path1().string(), e.code().message());
+    // A rename's path2 is the final file; path1 its temporary, which the user never sees.
+    const fs::path& file = e.path2().empty() ? e.path1() : e.path2();
+    Fail("{}: cannot write: {}", file.string(), e.code().message());
   } catch (...) {
     fs::remove(bundle_tmp, ec);
     fs::remove(list_tmp, ec);

@@ -5,6 +5,7 @@
 
 #include "varsfm/matching/nearest_neighbors.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -64,6 +65,11 @@ FeatureMatches MatchDescriptors(const FeatureDescriptors& descriptors1,
                                 const DescriptorMatchOptions& options) {
   return MatchDescriptors(MatchableDescriptors(descriptors1, options.use_simd),
                           MatchableDescriptors(descriptors2, options.use_simd), options);
+}
+
+void DescriptorMatchOptions::Check() const {
+  CheckInHalfOpenRange("--ratio", max_ratio, 0, 1);
+  CheckGreaterThan("max_distance", max_distance, 0);
 }
 
 }  // namespace varsfm

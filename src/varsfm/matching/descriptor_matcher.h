@@ -20,6 +20,8 @@ struct DescriptorMatchOptions {
   bool cross_check = true;
   // Use the AVX-512 VNNI kernel where the CPU has it (same results as the generic kernel).
   bool use_simd = true;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // One image's descriptors converted once for matching and reused for each of its pairs.

@@ -5,6 +5,7 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -111,6 +112,14 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
     if (best.inlier_mask[k]) geometry.inlier_matches.push_back(matches[k]);
   }
   return geometry;
+}
+
+void VerificationOptions::Check() const {
+  CheckGreaterThan("--max-error", max_error, 0);
+  CheckAtLeast("--min-inliers", min_num_inliers, 1);
+  CheckInHalfOpenRange("confidence", confidence, 0, 1);
+  CheckAtLeast("max_num_trials", max_num_trials, 1);
+  CheckInRange("max_H_inlier_ratio", max_H_inlier_ratio, 0, 1);
 }
 
 }  // namespace varsfm

@@ -29,6 +29,8 @@ struct VerificationOptions {
   // (COLMAP's max_H_inlier_ratio): F is unreliable there for self-calibration.
   double max_H_inlier_ratio = 0.8;
   uint64_t seed = kDefaultSeed;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // Estimates F (x2^T F x1 = 0) and H (x2 ~ H x1) in varsfm pixel coordinates from the putative

@@ -9,6 +9,7 @@
 #include "varsfm/mesh/screened_poisson.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -77,14 +78,13 @@ void TrimAndColour(const PointCloud& cloud, double max_distance, bool trim, Tria
 }  // namespace
 
 void SurfaceOptions::Check() const {
-  if (!(cell_spacing > 0)) Fail("surface: the cell spacing must be positive, not {}", cell_spacing);
-  if (min_depth < 1 || max_depth > 16 || min_depth > max_depth)
-    Fail("surface: octree depths must satisfy 1 <= min <= max <= 16, not {}..{}", min_depth,
-         max_depth);
-  if (!(density_trim_levels >= 0))
-    Fail("surface: the density trim must be >= 0 levels, not {}", density_trim_levels);
-  if (num_threads < 1) Fail("surface: threads must be >= 1, not {}", num_threads);
-  if (max_points < 10) Fail("surface: the point limit must be at least 10, not {}", max_points);
+  CheckGreaterThan("cell_spacing", cell_spacing, 0);
+  CheckInRange("min_depth", min_depth, 1, 16);
+  CheckInRange("--max-depth", max_depth, min_depth, 16);
+  CheckAtLeast("density_trim_levels", density_trim_levels, 0);
+  CheckAtLeast("--threads", num_threads, 1);
+  CheckAtLeast("--max-points", max_points, 10u);
+  CheckAtLeast("--trim", trim_factor, 0);
   quality.Check();
 }
 

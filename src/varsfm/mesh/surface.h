@@ -49,7 +49,8 @@ struct SurfaceOptions {
   // holes. <= 0 keeps the whole surface.
   double trim_factor = 3.0;
   MeshQualityLimits quality;
-  void Check() const;  // throws varsfm::Error naming the first bad option
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct SurfaceStats {

@@ -4,11 +4,20 @@
 
 #include "varsfm/eval/ground_truth.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
 
+void DemoOptions::Check() const {
+  scene.Check();
+  // The evaluation's similarity alignment needs three registered images.
+  CheckInRange("--images", scene.num_images, 3, 200);
+  run.Check();
+}
+
 DemoResult RunDemo(const DemoOptions& options) {
+  options.Check();
   const auto image_dir = options.output / "images";
   const auto gt_dir = options.output / "gt";
   Timer timer;

@@ -14,6 +14,9 @@ struct DemoOptions {
   std::filesystem::path output;  // OUT/images, OUT/gt, then the run's outputs in OUT
   RenderedSceneOptions scene;
   RunOptions run;  // input/output filled in
+
+  // Throws OptionError (util/option_check.h) for a bad value.
+  void Check() const;
 };
 
 struct DemoResult {

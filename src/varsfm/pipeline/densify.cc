@@ -10,6 +10,7 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -44,7 +45,13 @@ void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult&
 
 }  // namespace
 
+void DensifyCommandOptions::Check() const {
+  dense.Check();
+  CheckHoldout(holdout);
+}
+
 DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
+  options.Check();
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
     Fail("workspace {} does not exist", options.workspace.string());
@@ -52,7 +59,6 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
     Fail("sparse model folder {} does not exist", options.sparse.string());
   if (!std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
-  CheckHoldout(options.holdout);
   Reconstruction rec = ReadColmapModel(options.sparse);
   if (const size_t n = HoldOutImages(&rec, options.holdout))
     info("densify: {} held-out view(s) left out", n);

@@ -18,6 +18,10 @@ struct DensifyCommandOptions {
   std::filesystem::path output;     // OUT/dense.ply is written
   DensifyOptions dense;
   int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
+
+  // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
+  // runs.
+  void Check() const;
 };
 
 struct DensifyCommandResult {

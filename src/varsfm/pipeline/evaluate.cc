@@ -8,8 +8,10 @@
 #include "varsfm/eval/ground_truth.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/pipeline/render.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -42,7 +44,18 @@ std::filesystem::path OutputFolderOf(const std::filesystem::path& model_dir) {
 
 }  // namespace
 
+void EvaluateCommandOptions::Check() const {
+  evaluation.Check();
+  CheckHoldout(holdout);
+  if (gt_dir.empty() && !render)
+    throw OptionError(
+        "evaluate: give --gt (ground-truth cameras), --render (textured model), or both");
+  if (render && image_dir.empty())
+    throw OptionError("evaluate --render: --images (the photos) is required");
+}
+
 EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
+  options.evaluation.Check();
   // Check both folders before reading either, so the message names the one that is wrong.
   if (!std::filesystem::is_directory(options.model_dir))
     Fail("{}: model folder does not exist", options.model_dir.string());
@@ -68,8 +81,7 @@ EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
 }
 
 std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
-  if (options.gt_dir.empty() && !options.render)
-    Fail("evaluate: give --gt (ground-truth cameras), --render (textured model), or both");
+  options.Check();
   std::string text;
   nlohmann::json json;
   if (!options.gt_dir.empty()) {
@@ -80,7 +92,6 @@ std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
     json = ToJson(report);
   }
   if (options.render) {
-    if (options.image_dir.empty()) Fail("evaluate --render: --images (the photos) is required");
     RenderEvaluationOptions render;
     render.sparse = options.model_dir;
     render.textured = options.textured.empty() ? OutputFolderOf(options.model_dir) / "textured"

@@ -21,6 +21,10 @@ struct EvaluateCommandOptions {
   std::filesystem::path image_dir;  // the photos (required with render)
   std::filesystem::path render_dir;  // optional: where to write the renderings
   int holdout = 0;                   // the held-out views reported apart (pipeline/render.h)
+
+  // Throws OptionError (util/option_check.h) for a bad value, neither --gt nor --render, or
+  // --render without --images; files are checked when the stage runs.
+  void Check() const;
 };
 
 // Throws varsfm::Error (one line) when a folder is missing or unreadable.

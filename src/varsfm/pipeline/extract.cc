@@ -20,6 +20,7 @@
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -335,7 +336,16 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
 
 }  // namespace
 
+void ExtractOptions::Check() const {
+  sift.Check();
+  keyframes.Check();
+  CheckAtLeast("min_image_size", min_image_size, 1);
+  CheckAtLeast("min_features", min_features, 0);
+  CheckAtLeast("--threads", threads, 0);
+}
+
 ExtractSummary RunExtraction(const ExtractOptions& options) {
+  options.Check();
   Timer timer;
   if (options.workspace.empty()) Fail("no workspace given");
   ExtractSummary summary;

@@ -21,6 +21,10 @@ struct ExtractOptions {
   int min_image_size = 32;  // smaller images (either side, pixels) are skipped with a warning
   int min_features = 16;    // fewer features: a warning (the image is kept, it may not register)
   int threads = 0;          // 0: all cores
+
+  // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
+  // runs.
+  void Check() const;
 };
 
 struct ExtractSummary {

@@ -14,6 +14,7 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -67,7 +68,8 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
          options.workspace.string(), rec.images().size());
 
   size_t pairs = 0;
-  for (const auto& [pair_id, tvg] : db.ReadAllTwoViewGeometries()) {
+  const auto geometries = db.ReadAllTwoViewGeometries();
+  for (const auto& [pair_id, tvg] : geometries) {
     const auto [id1, id2] = Database::PairIdToImagePair(pair_id);
     if (!ws.graph.ExistsImage(id1) || !ws.graph.ExistsImage(id2)) continue;
     if (tvg.inlier_matches.size() < static_cast<size_t>(options.min_pair_inliers)) continue;
@@ -80,9 +82,15 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
     ws.graph.AddImagePair(id1, id2, tvg.inlier_matches);
     ++pairs;
   }
-  if (pairs == 0)
-    Fail("workspace {} has no verified image pair (run `varsfm match` first)",
+  // The advice depends on what the workspace holds, not on who ran the matching (`run` has).
+  if (geometries.empty())
+    Fail("workspace {} has no matched image pair (run `varsfm match` first)",
          options.workspace.string());
+  if (pairs == 0)
+    Fail(
+        "workspace {}: none of the {} matched image pairs has {} or more verified matches (do "
+        "the photos overlap?)",
+        options.workspace.string(), geometries.size(), options.min_pair_inliers);
   info("map: {} images, {} verified pairs ({} planar/panoramic)", rec.images().size(), pairs,
        ws.planar_pairs.size());
   return ws;
@@ -116,6 +124,17 @@ KeypointColors SampleKeypointColors(
     }
   }
   return colors;
+}
+
+// One line when photos of the workspace's images could not be read for the colours.
+void WarnUnreadPhotos(const KeypointColors& colors, const Reconstruction& images,
+                      const std::filesystem::path& image_dir) {
+  std::vector<std::string> unread;
+  for (const auto& [id, image] : images.images())
+    if (!colors.contains(id)) unread.push_back(image.name);
+  if (!unread.empty())
+    warn("map: {} of {} photos could not be read from {} (first: {}); their points are grey",
+         unread.size(), images.images().size(), image_dir.string(), unread.front());
 }
 
 // Colours of the 3D points: the mean colour of their observations in the photographs.
@@ -191,7 +210,16 @@ void LogModels(const MultiModelResult& built, size_t num_images, double seconds)
 
 }  // namespace
 
+void MapOptions::Check() const {
+  mapper.Check();
+  CheckAtLeast("min_pair_inliers", min_pair_inliers, 1);
+}
+
 MapResult RunMapping(const MapOptions& options) {
+  options.Check();
+  // Before the work: a mistyped folder would otherwise leave every point grey without a word.
+  if (!options.image_dir.empty() && !std::filesystem::is_directory(options.image_dir))
+    Fail("image folder {} does not exist", options.image_dir.string());
   Timer total;
   LoadedWorkspace ws = LoadWorkspace(options);
   std::future<KeypointColors> colors;
@@ -226,6 +254,7 @@ MapResult RunMapping(const MapOptions& options) {
 
   if (colors.valid()) {
     const KeypointColors keypoint_colors = colors.get();
+    WarnUnreadPhotos(keypoint_colors, ws.reconstruction, options.image_dir);
     for (MapperModel& model : built.models) ColorPoints(keypoint_colors, &model.reconstruction);
   }
   const Reconstruction& rec = built.models.front().reconstruction;

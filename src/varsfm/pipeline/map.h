@@ -27,6 +27,10 @@ struct MapOptions {
   IntrinsicsSharing sharing = IntrinsicsSharing::kPerImage;
   IncrementalMapperOptions mapper;
   int min_pair_inliers = 15;  // pairs with fewer verified matches are ignored
+
+  // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
+  // runs.
+  void Check() const;
 };
 
 struct MapResult {

@@ -18,6 +18,7 @@
 #include "varsfm/matching/pair_selection.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -30,6 +31,10 @@ namespace {
 constexpr size_t kPairsPerChunk = 256;
 // A transaction holds at most this many pairs (besides the time limit, commit_interval).
 constexpr size_t kPairsPerCommit = 256;
+
+// kAuto matches sequentially above this many images: exhaustive matching's pairs grow with the
+// square of the count, and larger sets are mostly walked or filmed sequences.
+constexpr size_t kAutoSequentialImages = 40;
 
 struct LoadedImage {
   FeatureKeypoints keypoints;
@@ -248,13 +253,31 @@ void MatchPairs(Database& db, ResultSettings& record, int64_t settings, const Im
 
 }  // namespace
 
+std::string_view MatchStrategyName(MatchStrategy strategy) {
+  switch (strategy) {
+    case MatchStrategy::kExhaustive:
+      return "exhaustive";
+    case MatchStrategy::kSequential:
+      return "sequential";
+    case MatchStrategy::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+void MatchOptions::Check() const {
+  CheckAtLeast("--overlap", overlap, 1);
+  matching.Check();
+  verification.Check();
+  CheckAtLeast("--threads", num_threads, 0);
+  CheckGreaterThan("commit_interval", commit_interval, 0);
+}
+
 MatchSummary RunMatching(const MatchOptions& options) {
+  options.Check();
   // Checked before opening: Database would create a missing file.
   if (!std::filesystem::is_regular_file(options.workspace)) {
     Fail("workspace {} does not exist (run `varsfm extract` first)", options.workspace.string());
-  }
-  if (options.strategy != "exhaustive" && options.strategy != "sequential") {
-    Fail("unknown matching strategy '{}' (exhaustive or sequential)", options.strategy);
   }
   std::unique_ptr<tbb::global_control> threads;
   if (options.num_threads > 0) {
@@ -270,17 +293,21 @@ MatchSummary RunMatching(const MatchOptions& options) {
   }
   std::vector<image_t> ids;
   for (const DbImage& image : images) ids.push_back(image.image_id);
-  const ImagePairs all_pairs = options.strategy == "exhaustive"
+  MatchSummary summary;
+  summary.strategy = options.strategy;
+  if (summary.strategy == MatchStrategy::kAuto)
+    summary.strategy = images.size() > kAutoSequentialImages ? MatchStrategy::kSequential
+                                                             : MatchStrategy::kExhaustive;
+  const ImagePairs all_pairs = summary.strategy == MatchStrategy::kExhaustive
                                    ? ExhaustivePairs(ids)
                                    : SequentialPairs(ids, options.overlap);
-  MatchSummary summary;
   summary.num_images = images.size();
   summary.num_pairs = all_pairs.size();
   ResultSettings record(db);
   const int64_t settings = record.Id("match", MatchSettings(options));
   const ImagePairs pairs = PairsToMatch(db, record, settings, all_pairs, summary);
   info("match: {} images, {} {} pairs ({} already verified)", images.size(), all_pairs.size(),
-       options.strategy, summary.num_skipped);
+       MatchStrategyName(summary.strategy), summary.num_skipped);
 
   MatchPairs(db, record, settings, pairs, options, summary);
   info("match: {} of {} new pairs verified, {} inlier matches, {:.1f} s", summary.num_verified,

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 
 #include "varsfm/matching/descriptor_matcher.h"
 #include "varsfm/matching/geometric_verification.h"
@@ -14,10 +15,20 @@
 
 namespace varsfm {
 
+// Which image pairs are matched.
+enum class MatchStrategy {
+  kExhaustive,  // every pair
+  kSequential,  // each image with the next `overlap` in name order (video, walked sequences)
+  kAuto,        // sequential above kAutoSequentialImages images, exhaustive up to it
+};
+
+// "exhaustive", "sequential", "auto": the names the command line takes and summaries give.
+std::string_view MatchStrategyName(MatchStrategy strategy);
+
 struct MatchOptions {
-  std::filesystem::path workspace;      // must exist, with features from `varsfm extract`
-  std::string strategy = "exhaustive";  // "exhaustive" or "sequential"
-  int overlap = 10;                     // sequential: each image with its next `overlap`
+  std::filesystem::path workspace;  // must exist, with features from `varsfm extract`
+  MatchStrategy strategy = MatchStrategy::kExhaustive;
+  int overlap = 10;  // sequential: each image with its next `overlap`
   DescriptorMatchOptions matching;
   VerificationOptions verification;  // its seed is replaced by one derived per pair
   uint64_t seed = kDefaultSeed;
@@ -28,20 +39,26 @@ struct MatchOptions {
   // Seconds on a monotonic clock, for the commits; empty: std::chrono::steady_clock. Tests
   // give their own to commit (and fail) at chosen points without waiting.
   std::function<double()> clock;
+
+  // Throws OptionError (util/option_check.h) for a bad value; the workspace is checked by
+  // RunMatching.
+  void Check() const;
 };
 
 struct MatchSummary {
-  size_t num_images = 0;          // images with features
-  size_t num_pairs = 0;           // pairs the strategy selects
-  size_t num_skipped = 0;         // already verified in an earlier run
+  MatchStrategy strategy = MatchStrategy::kExhaustive;  // the one used (kAuto resolved)
+  size_t num_images = 0;                                // images with features
+  size_t num_pairs = 0;                                 // pairs the strategy selects
+  size_t num_skipped = 0;                               // already verified in an earlier run
   size_t num_verified = 0;        // newly matched pairs with a stored (non-empty) geometry
   size_t num_inlier_matches = 0;  // over the newly verified pairs
 };
 
-// Throws varsfm::Error (workspace untouched) if the workspace is missing or has fewer than two
-// images with features. Pairs already holding a two-view geometry are skipped, so an
-// interrupted run resumes; a pair's matches and geometry are committed together, pairs as they
-// are verified, at least every options.commit_interval seconds.
+// Throws OptionError for a bad option and varsfm::Error (workspace untouched) if the workspace
+// is missing or has fewer than two images with features. Pairs already holding a two-view
+// geometry are skipped, so an interrupted run resumes; a pair's matches and geometry are
+// committed together, pairs as they are verified, at least every options.commit_interval
+// seconds.
 MatchSummary RunMatching(const MatchOptions& options);
 
 }  // namespace varsfm

@@ -9,7 +9,10 @@
 
 namespace varsfm {
 
+void MeshCommandOptions::Check() const { surface.Check(); }
+
 MeshCommandResult RunMesh(const MeshCommandOptions& options) {
+  options.Check();
   Timer timer;
   const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method);
   MeshCommandResult result;

@@ -14,6 +14,10 @@ struct MeshCommandOptions {
   std::filesystem::path input;   // PLY point cloud (normals needed for Poisson)
   std::filesystem::path output;  // folder; OUT/mesh.ply is written
   SurfaceOptions surface;
+
+  // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
+  // runs.
+  void Check() const;
 };
 
 struct MeshCommandResult {

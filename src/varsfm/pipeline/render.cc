@@ -13,6 +13,7 @@
 #include "varsfm/texture/render.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -62,7 +63,13 @@ void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
 
 }  // namespace
 
+void RenderCommandOptions::Check() const {
+  if (camera.empty()) FailOption("--camera", "an image name of the sparse model", "''");
+  if (output.empty()) FailOption("--output", "an image file", "''");
+}
+
 void RunRender(const RenderCommandOptions& options) {
+  options.Check();
   const fs::path sparse = options.sparse.empty() ? options.model / "sparse" : options.sparse;
   const fs::path textured =
       options.textured.empty() ? options.model / "textured" : options.textured;

@@ -20,6 +20,10 @@ struct RenderCommandOptions {
   // With the photos' folder: the output is three panels side by side, photo | rendering | the
   // mesh shaded without texture, to look at a view (a held-out one above all) as a person would.
   std::filesystem::path panel_image_dir;
+
+  // Throws OptionError (util/option_check.h) for an empty camera name or output; files are
+  // checked when the stage runs.
+  void Check() const;
 };
 
 // Throws varsfm::Error (one line) for a missing model, an unknown image name, or an unwritable

@@ -1,8 +1,7 @@
 #include "varsfm/pipeline/run.h"
 
-#include <algorithm>
 #include <fstream>
-#include <vector>
+#include <string>
 
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
@@ -11,25 +10,37 @@
 
 namespace varsfm {
 
-RunResult RunAll(const RunOptions& options) {
-  namespace fs = std::filesystem;
-  if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
-  const bool video = fs::is_regular_file(options.input);
-  if (options.output.empty()) Fail("no output folder given");
-  CheckHoldout(options.holdout);
-  static const std::vector<std::string> kStages = {"sparse", "dense", "mesh", "texture"};
-  const auto last = std::find(kStages.begin(), kStages.end(), options.until);
-  if (last == kStages.end())
-    Fail("--until {}: expected sparse, dense, mesh or texture", options.until);
-  const auto runs = [&](const char* stage) {
-    return std::find(kStages.begin(), kStages.end(), stage) <= last;
-  };
-  if (fs::exists(options.output) && !fs::is_directory(options.output))
-    Fail("output {} exists and is not a folder", options.output.string());
-  fs::create_directories(options.output);
-  const fs::path workspace = options.output / "workspace.db";
+std::string_view RunStageName(RunStage stage) {
+  switch (stage) {
+    case RunStage::kSparse:
+      return "sparse";
+    case RunStage::kDense:
+      return "dense";
+    case RunStage::kMesh:
+      return "mesh";
+    case RunStage::kTexture:
+      break;
+  }
+  return "texture";
+}
 
-  RunResult result;
+void RunOptions::Check() const {
+  extract.Check();
+  match.Check();
+  map.Check();
+  dense.Check();
+  surface.Check();
+  texture.Check();
+  CheckHoldout(holdout);
+}
+
+namespace {
+
+// The stages that make the sparse model: extract, match, map. Returns the folder the photos
+// were read from (a video's keyframes: their folder).
+std::filesystem::path RunSparseStages(const RunOptions& options, const bool video,
+                                      RunResult* result, MatchStrategy* strategy) {
+  const std::filesystem::path workspace = options.output / "workspace.db";
   Timer timer;
   ExtractOptions extract = options.extract;
   extract.workspace = workspace;
@@ -37,17 +48,15 @@ RunResult RunAll(const RunOptions& options) {
   extract.video.clear();
   (video ? extract.video : extract.image_dir) = options.input;
   const ExtractSummary extracted = RunExtraction(extract);
-  result.seconds_extract = timer.Seconds();
+  result->seconds_extract = timer.Seconds();
 
   timer.Restart();
   MatchOptions match = options.match;
   match.workspace = workspace;
-  const size_t num_images = extracted.num_existing + extracted.num_extracted;
   match.strategy = options.matching;
-  if (match.strategy == "auto")
-    match.strategy = (video || num_images > 40) ? "sequential" : "exhaustive";
-  RunMatching(match);
-  result.seconds_match = timer.Seconds();
+  if (video && match.strategy == MatchStrategy::kAuto) match.strategy = MatchStrategy::kSequential;
+  *strategy = RunMatching(match).strategy;
+  result->seconds_match = timer.Seconds();
 
   timer.Restart();
   MapOptions map = options.map;
@@ -55,8 +64,36 @@ RunResult RunAll(const RunOptions& options) {
   map.output = options.output;
   map.image_dir = extracted.image_dir;
   if (video) map.mapper.sequential_order = true;
-  result.map = RunMapping(map);
-  result.seconds_map = timer.Seconds();
+  result->map = RunMapping(map);
+  result->seconds_map = timer.Seconds();
+  return extracted.image_dir;
+}
+
+}  // namespace
+
+RunResult RunAll(const RunOptions& options) {
+  namespace fs = std::filesystem;
+  options.Check();
+  if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
+  const bool video = fs::is_regular_file(options.input);
+  if (options.output.empty()) Fail("no output folder given");
+  const auto runs = [&](RunStage stage) { return stage <= options.until; };
+  if (fs::exists(options.output) && !fs::is_directory(options.output))
+    Fail("output {} exists and is not a folder", options.output.string());
+  const bool created_output = !fs::exists(options.output);
+  fs::create_directories(options.output);
+
+  RunResult result;
+  MatchStrategy strategy = options.matching;
+  fs::path image_dir;
+  try {
+    image_dir = RunSparseStages(options, video, &result, &strategy);
+  } catch (...) {
+    // Nothing of value was made: a failed run leaves no folder behind it.
+    std::error_code ec;
+    if (created_output) fs::remove_all(options.output, ec);
+    throw;
+  }
 
   // Add the earlier stages' times to the summary written by the mapping stage.
   const fs::path summary_path = options.output / "summary.json";
@@ -64,7 +101,7 @@ RunResult RunAll(const RunOptions& options) {
   summary["seconds"]["extract"] = result.seconds_extract;
   summary["seconds"]["match"] = result.seconds_match;
   summary["seconds"]["map"] = result.seconds_map;
-  summary["matching_strategy"] = match.strategy;
+  summary["matching_strategy"] = std::string(MatchStrategyName(strategy));
   std::ofstream(summary_path) << summary.dump(2) << "\n";
 
   // Unconnected images give further models (sparse/1, ...); the later stages use model 0.
@@ -77,17 +114,17 @@ RunResult RunAll(const RunOptions& options) {
     summary["seconds"][stage] = seconds;
     std::ofstream(summary_path) << summary.dump(2) << "\n";
   };
-  if (runs("dense")) {
+  if (runs(RunStage::kDense)) {
     DensifyCommandOptions densify;
     densify.sparse = options.output / "sparse" / "0";
-    densify.image_dir = extracted.image_dir;
+    densify.image_dir = image_dir;
     densify.output = options.output;
     densify.dense = options.dense;
     densify.holdout = options.holdout;
     result.seconds_densify = RunDensify(densify).seconds;
     add_seconds("densify", result.seconds_densify);
   }
-  if (runs("mesh")) {
+  if (runs(RunStage::kMesh)) {
     MeshCommandOptions mesh;
     mesh.input = options.output / "dense.ply";
     mesh.output = options.output;
@@ -97,11 +134,11 @@ RunResult RunAll(const RunOptions& options) {
     summary["mesh"] = MeshSummary(meshed);
     add_seconds("mesh", result.seconds_mesh);
   }
-  if (runs("texture")) {
+  if (runs(RunStage::kTexture)) {
     TextureCommandOptions texture;
     texture.mesh = options.output / "mesh.ply";
     texture.sparse = options.output / "sparse" / "0";
-    texture.image_dir = extracted.image_dir;
+    texture.image_dir = image_dir;
     texture.output = options.output;
     texture.texture = options.texture;
     texture.holdout = options.holdout;
@@ -115,7 +152,7 @@ RunResult RunAll(const RunOptions& options) {
       RenderEvaluationOptions renders;
       renders.sparse = texture.sparse;
       renders.textured = options.output / "textured";
-      renders.image_dir = extracted.image_dir;
+      renders.image_dir = image_dir;
       renders.holdout = options.holdout;
       result.renders = EvaluateRenders(renders);
       const RenderEvaluationMeans& h = result.renders.held_out;

@@ -4,7 +4,7 @@
 // stopping after the stage `until` names, then OUT/report.html of whatever was made.
 // OUT/workspace.db is the workspace (re-running resumes).
 #include <filesystem>
-#include <string>
+#include <string_view>
 
 #include "varsfm/pipeline/densify.h"
 #include "varsfm/pipeline/extract.h"
@@ -17,16 +17,22 @@
 
 namespace varsfm {
 
+// The stages `run` can stop after, in order: the sparse model (map), the dense cloud (densify),
+// the mesh, the texture (everything).
+enum class RunStage { kSparse, kDense, kMesh, kTexture };
+
+// "sparse", "dense", "mesh", "texture": the names `--until` takes.
+std::string_view RunStageName(RunStage stage);
+
 struct RunOptions {
   std::filesystem::path input;   // a folder of photos or a video file
   std::filesystem::path output;  // OUT
-  // "auto": sequential for video and for more than 40 images, exhaustive otherwise.
-  std::string matching = "auto";
-  ExtractOptions extract;  // workspace / image_dir / video are filled in by RunAll
-  MatchOptions match;      // workspace / strategy filled in
-  MapOptions map;          // workspace / output / image_dir filled in
-  // The last stage run: "sparse" (map), "dense" (densify), "mesh" or "texture" (everything).
-  std::string until = "texture";
+  // kAuto: sequential for video (and, as MatchStrategy::kAuto says, for many images).
+  MatchStrategy matching = MatchStrategy::kAuto;
+  ExtractOptions extract;               // workspace / image_dir / video are filled in by RunAll
+  MatchOptions match;                   // workspace / strategy filled in
+  MapOptions map;                       // workspace / output / image_dir filled in
+  RunStage until = RunStage::kTexture;  // the last stage run
   DensifyOptions dense;
   SurfaceOptions surface;
   TextureOptions texture;
@@ -34,6 +40,10 @@ struct RunOptions {
   // model is scored on those views at the end (scene/holdout.h); 0: none.
   int holdout = 0;
   ReportOptions report;  // output filled in
+
+  // Every stage's options, so that a bad value fails before the first stage starts. Throws
+  // OptionError (util/option_check.h); the input and output are checked by RunAll.
+  void Check() const;
 };
 
 struct RunResult {
@@ -50,9 +60,11 @@ struct RunResult {
   std::filesystem::path report;  // OUT/report.html
 };
 
-// Throws varsfm::Error (one line) for a missing input, a video that cannot be decoded, too few
-// images, a scene that cannot be initialised, or an unknown `until`; later stages throw as their
-// commands do (the outputs of the stages before stay in OUT).
+// Throws varsfm::Error (one line) for a bad option, a missing input, a video that cannot be
+// decoded, too few images or a scene that cannot be initialised: OUT is then removed if this run
+// created it (a folder that existed is left as it was, but for OUT/workspace.db). Later stages
+// throw as their commands do, and the sparse model and the outputs of the stages before stay in
+// OUT.
 RunResult RunAll(const RunOptions& options);
 
 }  // namespace varsfm

@@ -11,14 +11,19 @@
 
 namespace varsfm {
 
+void TextureCommandOptions::Check() const {
+  texture.Check();
+  CheckHoldout(holdout);
+}
+
 TextureCommandResult RunTexture(const TextureCommandOptions& options) {
+  options.Check();
   Timer timer;
   if (!std::filesystem::is_directory(options.sparse))
     Fail("sparse model folder {} does not exist", options.sparse.string());
   if (!std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
   const TriangleMesh mesh = ReadMeshPly(options.mesh);
-  CheckHoldout(options.holdout);
   Reconstruction rec = ReadColmapModel(options.sparse);
   if (const size_t n = HoldOutImages(&rec, options.holdout))
     info("texture: {} held-out view(s) left out", n);

@@ -15,6 +15,10 @@ struct TextureCommandOptions {
   std::filesystem::path output;     // OUT: OUT/textured/ and OUT/model.glb are written
   TextureOptions texture;
   int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
+
+  // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
+  // runs.
+  void Check() const;
 };
 
 struct TextureCommandResult {

@@ -3,12 +3,13 @@
 #include <algorithm>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
 void CheckHoldout(int every) {
   if (every < 0 || every == 1) {
-    Fail("--holdout {}: expected 0 (no held-out views) or N >= 2 (every N-th image)", every);
+    FailOption("--holdout", "0 (no held-out views) or an integer >= 2 (every N-th image)", every);
   }
 }
 

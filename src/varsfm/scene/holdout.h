@@ -10,7 +10,7 @@
 
 namespace varsfm {
 
-// Throws varsfm::Error unless `every` is 0 (no held-out views) or at least 2.
+// Throws OptionError (util/option_check.h) unless `every` is 0 (no held-out views) or at least 2.
 void CheckHoldout(int every);
 
 // The registered images held out for `every` (0: none; 1 would hold out every image and is

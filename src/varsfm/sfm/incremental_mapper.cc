@@ -109,7 +109,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   const auto candidates =
       RankInitialPairs(*rec, graph_, excluded_initial_pairs_, options_.initial_pair);
   if (candidates.empty()) {
-    summary.message = "no image pair has enough verified matches to initialise the reconstruction";
+    summary.message = NoInitialPairReason(graph_, excluded_initial_pairs_, options_.initial_pair);
     return summary;
   }
   // Cheap first pass: F and the conditioning of the closed-form focal lengths for the best

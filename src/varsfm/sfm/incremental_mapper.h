@@ -111,6 +111,8 @@ struct IncrementalMapperOptions {
   uint64_t seed = kDefaultSeed;
   // Called after each registration: (registered, total, RMS reprojection error px).
   std::function<void(size_t, size_t, double)> progress;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct MapperSummary {

@@ -5,12 +5,14 @@
 #include <limits>
 #include <set>
 
+#include <fmt/format.h>
+
 #include "varsfm/calibration/bougnoux.h"
 
 namespace varsfm {
 
-bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1,
-                                     int width2, int height2) {
+bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1, int width2,
+                                     int height2) {
   constexpr double kPerturbation = 0.02;  // of the image size
   constexpr double kMaxLogChange = 0.15;  // |log f' - log f|
   const Eigen::Vector2d pp1(width1 / 2.0, height1 / 2.0), pp2(width2 / 2.0, height2 / 2.0);
@@ -20,7 +22,7 @@ bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int h
       focals->second < 0.3 * size2 || focals->second > 5 * size2)
     return false;
   for (const Eigen::Vector2d& dir : {Eigen::Vector2d(1, 0), Eigen::Vector2d(0, 1),
-                                    Eigen::Vector2d(-1, 0), Eigen::Vector2d(0, -1)}) {
+                                     Eigen::Vector2d(-1, 0), Eigen::Vector2d(0, -1)}) {
     for (int which = 0; which < 2; ++which) {
       const auto moved =
           BougnouxFocalLengths(F, pp1 + (which == 0 ? kPerturbation * size1 : 0.0) * dir,
@@ -85,6 +87,31 @@ std::vector<InitialPairCandidate> RankInitialPairs(
     return std::tie(a.image_id1, a.image_id2) < std::tie(b.image_id1, b.image_id2);
   });
   return candidates;
+}
+
+std::string NoInitialPairReason(const CorrespondenceGraph& graph,
+                                const std::vector<std::pair<image_t, image_t>>& excluded_pairs,
+                                const InitialPairOptions& options) {
+  const std::set<std::pair<image_t, image_t>> excluded(excluded_pairs.begin(),
+                                                       excluded_pairs.end());
+  size_t num_excluded = 0, most_matches = 0;
+  for (const auto& [pair, count] : graph.PairCounts()) {
+    if (excluded.count(pair)) {
+      ++num_excluded;
+    } else {
+      most_matches = std::max(most_matches, count);
+    }
+  }
+  const size_t num_pairs = graph.PairCounts().size();
+  if (num_pairs > 0 && num_excluded == num_pairs)
+    return fmt::format(
+        "all {} verified image pairs are related by a homography (the camera rotated about its "
+        "centre, or the scene is a plane): there is no parallax to reconstruct from",
+        num_pairs);
+  return fmt::format(
+      "no image pair has enough verified matches to initialise the reconstruction (the best "
+      "has {}, {} are needed; {} of {} pairs are related by a homography)",
+      most_matches, options.min_num_matches, num_excluded, num_pairs);
 }
 
 }  // namespace varsfm

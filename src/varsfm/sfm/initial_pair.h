@@ -7,6 +7,7 @@
 // parallax rather than a rotation or a plane (both give smooth, homography-like disparities).
 // varsfm adds what the criterion alone misses: a minimum number of verified matches, and pairs
 // the matcher flagged as planar/panoramic (explained by a homography) are never candidates.
+#include <string>
 #include <vector>
 
 #include "varsfm/scene/reconstruction.h"
@@ -18,6 +19,8 @@ struct InitialPairOptions {
   int min_num_matches = 100;
   // Candidates need at least this fraction of the best pair's match count ("many matches").
   double min_matches_fraction = 0.25;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct InitialPairCandidate {
@@ -33,8 +36,8 @@ struct InitialPairCandidate {
 // can be trusted: positive, in [0.3, 5] x max(w, h), and stable when a principal point moves by
 // 2 % of the image size. Near-coplanar optical axes (common when every photo looks at the same
 // object) fail the last test. Cheap: used to prefer such pairs before calibrating one.
-bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1,
-                                     int width2, int height2);
+bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1, int width2,
+                                     int height2);
 
 // Candidates sorted by decreasing score. `excluded_pairs` (planar/panoramic pairs) and
 // `registered` images are skipped. Deterministic: ties broken by image ids.
@@ -42,5 +45,12 @@ std::vector<InitialPairCandidate> RankInitialPairs(
     const Reconstruction& reconstruction, const CorrespondenceGraph& graph,
     const std::vector<std::pair<image_t, image_t>>& excluded_pairs,
     const InitialPairOptions& options);
+
+// Why RankInitialPairs found no candidate, in one line for the user: every pair explained by a
+// homography (no parallax: a rotation about the camera centre, or a planar scene), or too few
+// matches in the pairs that are not.
+std::string NoInitialPairReason(const CorrespondenceGraph& graph,
+                                const std::vector<std::pair<image_t, image_t>>& excluded_pairs,
+                                const InitialPairOptions& options);
 
 }  // namespace varsfm

@@ -10,6 +10,7 @@
 
 #include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -144,7 +145,7 @@ cv::Vec3f Trace(const std::vector<TexturedQuad>& quads, const Eigen::Vector3d& o
 }  // namespace
 
 RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
-  if (o.num_images < 2 || o.width < 64 || o.height < 64) Fail("demo scene: bad render options");
+  o.Check();
   Rng rng(o.seed);
   const bool street = o.path == CameraPath::kStreet;
   const double street_length = o.street_step * (o.num_images - 1);
@@ -231,6 +232,18 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
     out << c.width << " " << c.height << "\n";
     if (!out) Fail("cannot write {}", (gt_dir / (name + ".camera")).string());
   }
+}
+
+void RenderedSceneOptions::Check() const {
+  CheckGreaterThan("street_step", street_step, 0);
+  CheckAtLeast("--images", num_images, 2);
+  CheckAtLeast("width", width, 64);
+  CheckAtLeast("height", height, 64);
+  CheckGreaterThan("focal_start", focal_start, 0);
+  CheckGreaterThan("zoom", zoom, 0);
+  CheckFinite("k1", k1);
+  CheckFinite("arc_degrees", arc_degrees);
+  CheckInRange("supersampling", supersampling, 1, 8);
 }
 
 }  // namespace varsfm

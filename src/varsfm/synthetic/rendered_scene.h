@@ -35,6 +35,8 @@ struct RenderedSceneOptions {
   double arc_degrees = 50.0;
   int supersampling = 2;  // per axis
   uint64_t seed = kDefaultSeed;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct RenderedScene {

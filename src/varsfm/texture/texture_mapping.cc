@@ -11,6 +11,7 @@
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/rasterizer.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -223,6 +224,14 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   }
   st.seconds_atlas = timer.Seconds();
   return out;
+}
+
+void TextureOptions::Check() const {
+  selection.Check();
+  CheckInRange("--padding", padding, 0, 64);
+  CheckAtLeast("bleed_rings", bleed_rings, 0);
+  CheckAtLeast("max_page_size", max_page_size, 64);
+  CheckInRange("min_mean_coverage", min_mean_coverage, 0, 1);
 }
 
 }  // namespace varsfm

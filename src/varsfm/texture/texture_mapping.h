@@ -32,6 +32,8 @@ struct TextureOptions {
   // average: such a mesh is not the surface the photos show (a collapsed or misplaced mesh),
   // and its textured model would be empty in every view.
   double min_mean_coverage = 0.01;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct TextureStats {

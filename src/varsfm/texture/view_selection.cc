@@ -9,6 +9,7 @@
 
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/rasterizer.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -157,6 +158,17 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   for (size_t f = 0; f < num_faces; ++f)
     selection.num_changed_by_smoothing += selection.labels[f] != initial[f];
   return selection;
+}
+
+void ViewSelectionOptions::Check() const {
+  CheckAtLeast("max_raster_size", max_raster_size, 16);
+  CheckInRange("--depth-tolerance", depth_tolerance, 0, 1);
+  CheckInRange("--min-cos", min_cos_angle, 0, 1);
+  CheckAtLeast("border_px", border_px, 0);
+  CheckInRange("partial_face_weight", partial_face_weight, 0, 1);
+  CheckAtLeast("--smoothness", smoothness, 0);
+  CheckAtLeast("smoothing_iterations", smoothing_iterations, 0);
+  CheckAtLeast("--threads", num_threads, 0);
 }
 
 }  // namespace varsfm

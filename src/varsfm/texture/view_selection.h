@@ -37,6 +37,8 @@ struct ViewSelectionOptions {
   double smoothness = 0.3;
   int smoothing_iterations = 6;
   int num_threads = 0;  // 0: all cores
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct ViewSelection {

@@ -1,0 +1,178 @@
+// Every stage's options Check(): the defaults pass, and a bad value of any kind (out of range,
+// NaN, infinite) fails with one line that starts with the option's name.
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "varsfm/pipeline/demo.h"
+#include "varsfm/pipeline/evaluate.h"
+#include "varsfm/pipeline/render.h"
+#include "varsfm/pipeline/run.h"
+#include "varsfm/util/option_check.h"
+
+namespace varsfm {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <typename Options>
+struct BadValue {
+  std::string option;  // the name the message must start with
+  std::function<void(Options&)> spoil;
+};
+
+// Each bad value, applied alone to `valid`, makes Check() throw OptionError naming its option.
+template <typename Options>
+void ExpectEachRejected(const Options& valid, const std::vector<BadValue<Options>>& bad_values) {
+  ASSERT_NO_THROW(valid.Check());
+  for (const BadValue<Options>& bad : bad_values) {
+    Options options = valid;
+    bad.spoil(options);
+    try {
+      options.Check();
+      ADD_FAILURE() << bad.option << ": a bad value was accepted";
+    } catch (const OptionError& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(bad.option + ": expected ", 0), 0u) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  }
+}
+
+TEST(OptionsCheck, Extract) {
+  ExpectEachRejected<ExtractOptions>(
+      {}, {{"--max-features", [](auto& o) { o.sift.max_features = 0; }},
+           {"--max-image-size", [](auto& o) { o.sift.max_image_size = -1; }},
+           {"--contrast-threshold", [](auto& o) { o.sift.contrast_threshold = kNan; }},
+           {"--contrast-threshold", [](auto& o) { o.sift.contrast_threshold = 0; }},
+           {"edge_threshold", [](auto& o) { o.sift.edge_threshold = kInf; }},
+           {"--max-frames", [](auto& o) { o.keyframes.max_frames = -1; }},
+           {"blur_ratio", [](auto& o) { o.keyframes.blur_ratio = kNan; }},
+           {"min_tracked", [](auto& o) { o.keyframes.min_tracked = 1.5; }},
+           {"jpeg_quality", [](auto& o) { o.keyframes.jpeg_quality = 101; }},
+           {"--threads", [](auto& o) { o.threads = -3; }}});
+}
+
+TEST(OptionsCheck, Match) {
+  ExpectEachRejected<MatchOptions>(
+      {}, {{"--ratio", [](auto& o) { o.matching.max_ratio = kNan; }},
+           {"--ratio", [](auto& o) { o.matching.max_ratio = 0; }},
+           {"--ratio", [](auto& o) { o.matching.max_ratio = 1.5; }},
+           {"max_distance", [](auto& o) { o.matching.max_distance = -kInf; }},
+           {"--overlap", [](auto& o) { o.overlap = 0; }},
+           {"--max-error", [](auto& o) { o.verification.max_error = kInf; }},
+           {"--min-inliers", [](auto& o) { o.verification.min_num_inliers = 0; }},
+           {"confidence", [](auto& o) { o.verification.confidence = kNan; }},
+           {"max_H_inlier_ratio", [](auto& o) { o.verification.max_H_inlier_ratio = -0.1; }},
+           {"--threads", [](auto& o) { o.num_threads = -3; }}});
+}
+
+TEST(OptionsCheck, Map) {
+  ExpectEachRejected<MapOptions>(
+      {},
+      {{"--local-ba-images", [](auto& o) { o.mapper.local_ba_images = 0; }},
+       {"--local-ba-max-track", [](auto& o) { o.mapper.local_ba_max_track_length = -1; }},
+       {"--global-ba-images", [](auto& o) { o.mapper.first_global_ba_images = -1; }},
+       {"--global-ba-growth", [](auto& o) { o.mapper.global_ba_growth = 0.5; }},
+       {"--global-ba-growth", [](auto& o) { o.mapper.global_ba_growth = kNan; }},
+       {"--global-ba-tolerance", [](auto& o) { o.mapper.global_ba_function_tolerance = kNan; }},
+       {"--growth-ba-tolerance", [](auto& o) { o.mapper.growth_ba_function_tolerance = 0; }},
+       {"--degenerate-init-global-ba",
+        [](auto& o) { o.mapper.degenerate_init_global_ba_images = -2; }},
+       {"--min-correspondences", [](auto& o) { o.mapper.min_correspondences = 5; }},
+       {"--threads", [](auto& o) { o.mapper.num_threads = -3; }},
+       {"init_min_median_angle_deg", [](auto& o) { o.mapper.init_min_median_angle_deg = kInf; }},
+       {"min_matches_fraction", [](auto& o) { o.mapper.initial_pair.min_matches_fraction = kNan; }},
+       {"registration_max_error_px", [](auto& o) { o.mapper.registration_max_error_px = kNan; }},
+       {"min_pair_inliers", [](auto& o) { o.min_pair_inliers = 0; }}});
+  MapOptions never;
+  never.mapper.global_ba_growth = 0;  // "never" is allowed
+  EXPECT_NO_THROW(never.Check());
+}
+
+TEST(OptionsCheck, Densify) {
+  ExpectEachRejected<DensifyCommandOptions>(
+      {}, {{"--partners", [](auto& o) { o.dense.max_partners = 0; }},
+           {"--partners", [](auto& o) { o.dense.max_partners = 11; }},
+           {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kNan; }},
+           {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = 1.5; }},
+           {"--max-image-size", [](auto& o) { o.dense.max_image_size = 0; }},
+           {"--threads", [](auto& o) { o.dense.num_threads = -1; }},
+           {"max_pair_angle_deg", [](auto& o) { o.dense.max_pair_angle_deg = 1; }},
+           {"fusion_depth_tolerance", [](auto& o) { o.dense.fusion_depth_tolerance = kNan; }},
+           {"max_epipolar_distance",
+            [](auto& o) { o.dense.propagation.max_epipolar_distance = kInf; }}});
+}
+
+TEST(OptionsCheck, Mesh) {
+  ExpectEachRejected<MeshCommandOptions>(
+      {}, {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
+           {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
+           {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
+           {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
+           {"--max-depth", [](auto& o) { o.surface.max_depth = 17; }},
+           {"--threads", [](auto& o) { o.surface.num_threads = 0; }}});
+}
+
+TEST(OptionsCheck, Texture) {
+  ExpectEachRejected<TextureCommandOptions>(
+      {}, {{"--smoothness", [](auto& o) { o.texture.selection.smoothness = kNan; }},
+           {"--depth-tolerance", [](auto& o) { o.texture.selection.depth_tolerance = 2; }},
+           {"--min-cos", [](auto& o) { o.texture.selection.min_cos_angle = -0.1; }},
+           {"--padding", [](auto& o) { o.texture.padding = 65; }},
+           {"--threads", [](auto& o) { o.texture.selection.num_threads = -1; }},
+           {"border_px", [](auto& o) { o.texture.selection.border_px = kInf; }},
+           {"max_page_size", [](auto& o) { o.texture.max_page_size = 0; }}});
+}
+
+TEST(OptionsCheck, Render) {
+  RenderCommandOptions valid;
+  valid.camera = "IMG_0001.jpg";
+  valid.output = "view.png";
+  ExpectEachRejected<RenderCommandOptions>(valid,
+                                           {{"--camera", [](auto& o) { o.camera.clear(); }},
+                                            {"--output", [](auto& o) { o.output.clear(); }}});
+}
+
+TEST(OptionsCheck, Evaluate) {
+  EvaluateCommandOptions valid;
+  valid.gt_dir = "gt";
+  ExpectEachRejected<EvaluateCommandOptions>(
+      valid,
+      {{"--inlier-threshold", [](auto& o) { o.evaluation.alignment.inlier_threshold = kNan; }},
+       {"--inlier-threshold", [](auto& o) { o.evaluation.alignment.inlier_threshold = -1; }},
+       {"max_trials", [](auto& o) { o.evaluation.alignment.max_trials = 0; }}});
+  EvaluateCommandOptions nothing;  // neither --gt nor --render
+  EXPECT_THROW(nothing.Check(), OptionError);
+  EvaluateCommandOptions render_without_photos;
+  render_without_photos.render = true;
+  EXPECT_THROW(render_without_photos.Check(), OptionError);
+}
+
+// `run` checks every stage's options before the first one starts.
+TEST(OptionsCheck, Run) {
+  ExpectEachRejected<RunOptions>(
+      {},
+      {{"--max-features", [](auto& o) { o.extract.sift.max_features = -1; }},
+       {"--ratio", [](auto& o) { o.match.matching.max_ratio = kNan; }},
+       {"--global-ba-tolerance", [](auto& o) { o.map.mapper.global_ba_function_tolerance = -1; }},
+       {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kInf; }},
+       {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
+       {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }}});
+}
+
+TEST(OptionsCheck, Demo) {
+  ExpectEachRejected<DemoOptions>(
+      {}, {{"--images", [](auto& o) { o.scene.num_images = 2; }},
+           {"--images", [](auto& o) { o.scene.num_images = 201; }},
+           {"zoom", [](auto& o) { o.scene.zoom = kNan; }},
+           {"k1", [](auto& o) { o.scene.k1 = kInf; }},
+           {"--threads", [](auto& o) { o.run.map.mapper.num_threads = -1; }}});
+}
+
+}  // namespace
+}  // namespace varsfm
