@@ -14,18 +14,16 @@
 namespace varsfm {
 namespace {
 
-bool IsModelFolder(const std::filesystem::path& dir) {
-  return std::filesystem::exists(dir / "cameras.bin") ||
-         std::filesystem::exists(dir / "cameras.txt");
-}
-
-// The model folder itself, or model 0 of a run's output (OUT/sparse/0, or OUT/sparse).
+// A run's output folder (its sparse/, model 0), or a model folder or a folder of numbered models.
 std::filesystem::path FindModelFolder(const std::filesystem::path& path) {
-  for (const auto& candidate : {path, path / "0", path / "sparse" / "0", path / "sparse"}) {
-    if (IsModelFolder(candidate)) return candidate;
+  const std::filesystem::path dir = ResolveColmapModelFolder(
+      std::filesystem::is_directory(path / "sparse") ? path / "sparse" : path);
+  if (!std::filesystem::exists(dir / "cameras.bin") &&
+      !std::filesystem::exists(dir / "cameras.txt")) {
+    Fail("--model {}: no COLMAP model there (cameras.bin or cameras.txt), nor in its sparse/0",
+         path.string());
   }
-  Fail("--model {}: no COLMAP model there (cameras.bin or cameras.txt), nor in its sparse/0",
-       path.string());
+  return dir;
 }
 
 // The photos: as given, or where the run that made the model read them (OUT/summary.json).
