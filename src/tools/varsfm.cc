@@ -108,6 +108,9 @@ void AddLogLevelOption(CLI::App* app) {
       "--log-level",
       [](const std::string& text) { spdlog::set_level(Choose("--log-level", kLevels, text)); },
       fmt::format("{} (before the subcommand)", ChoiceNames(kLevels)));
+  app->add_flag_callback(
+      "-q,--quiet", [] { spdlog::set_level(spdlog::level::warn); },
+      "warnings and errors only, no progress (--log-level warn; before the subcommand)");
 }
 
 // Mapper options shared by `map` and `run`.

@@ -189,6 +189,15 @@ TEST(ExportCommand, WritesBothFormatsAndRefusesAnOccupiedOutput) {
             0)
       << output;
   EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / "transforms.json"));
+  EXPECT_NE(output.find("export: "), std::string::npos) << output;
+  // --quiet: nothing but warnings and errors.
+  ASSERT_EQ(testing::RunCommand(q(testing::VarsfmBinary()) + " --quiet export " +
+                                    q(tmp.path() / "sparse") + " " + q(tmp.path() / "quiet") +
+                                    " --images " + q(tmp.path() / "photos"),
+                                &output),
+            0)
+      << output;
+  EXPECT_EQ(output, "");
   // Again into the same folder: refused with one line, the folder untouched.
   EXPECT_NE(testing::RunCommand(base + " " + q(tmp.path() / "ns") +
                                     " --format nerfstudio --images " + q(tmp.path() / "photos"),
