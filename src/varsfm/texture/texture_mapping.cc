@@ -12,6 +12,7 @@
 #include "varsfm/texture/rasterizer.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -160,7 +161,9 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   std::vector<std::vector<size_t>> charts_of_view(views.size());
   for (size_t c = 0; c < charts.size(); ++c) charts_of_view[charts[c].view].push_back(c);
   std::unordered_map<int, int> texcoord_of_vertex;  // within one chart
+  Progress progress("texture: atlas", views.size());
   for (size_t v = 0; v < views.size(); ++v) {
+    progress.Tick();
     if (charts_of_view[v].empty()) continue;
     const cv::Mat photo = load_image(v);
     if (photo.cols != views[v].camera.width || photo.rows != views[v].camera.height ||

@@ -10,6 +10,7 @@
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/rasterizer.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 
 namespace varsfm {
 namespace {
@@ -101,12 +102,15 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   ViewSelection selection;
   selection.coverage.assign(num_views, 0.0);
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
+  Progress progress("texture: visibility", num_views);
   arena.execute([&] {
     tbb::parallel_for(size_t{0}, num_views, [&](size_t v) {
       ScoreView(vertices, faces, views[v], options, scores.data() + v * num_faces,
                 &selection.coverage[v]);
+      progress.Tick();
     });
   });
+  progress.Finish();
 
   selection.labels.assign(num_faces, -1);
   std::vector<float> best(num_faces, 0.0f);
