@@ -5,17 +5,9 @@
 #include "varsfm/util/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::filesystem::path dir = [] {
-    const auto d = varsfm::fuzz::ScratchDir() / "colmap_text";
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  const auto parts = varsfm::fuzz::SplitParts(data, size, 3);
-  const char* names[] = {"cameras.txt", "images.txt", "points3D.txt"};
-  for (int i = 0; i < 3; ++i)
-    varsfm::fuzz::WriteBytes(dir / names[i], parts[i].data(), parts[i].size());
   try {
-    varsfm::ReadColmapModel(dir);
+    varsfm::ReadColmapModel(varsfm::fuzz::WriteParts(
+        data, size, "colmap_text", {"cameras.txt", "images.txt", "points3D.txt"}));
   } catch (const varsfm::Error&) {
   }
   return 0;

@@ -64,4 +64,14 @@ std::string JoinParts(const std::vector<std::string>& parts) {
   return joined;
 }
 
+std::filesystem::path WriteParts(const uint8_t* data, size_t size, const std::string& folder,
+                                 const std::vector<std::string>& names) {
+  const std::filesystem::path dir = ScratchDir() / folder;
+  std::filesystem::create_directories(dir);
+  const std::vector<std::string> parts = SplitParts(data, size, names.size());
+  for (size_t i = 0; i < names.size(); ++i)
+    WriteBytes(dir / names[i], parts[i].data(), parts[i].size());
+  return dir;
+}
+
 }  // namespace varsfm::fuzz

@@ -26,6 +26,11 @@ void WriteBytes(const std::filesystem::path& path, const void* data, size_t size
 // last part keeps any further separators.
 std::vector<std::string> SplitParts(const uint8_t* data, size_t size, size_t count);
 
+// The input cut into one part per file name (SplitParts), each written into the scratch
+// folder `folder` (created once): a multi-file model for a reader that takes its folder.
+std::filesystem::path WriteParts(const uint8_t* data, size_t size, const std::string& folder,
+                                 const std::vector<std::string>& names);
+
 // Parts joined with kPartSeparator: how the seed corpus files are made.
 std::string JoinParts(const std::vector<std::string>& parts);
 
