@@ -139,11 +139,13 @@ int Essential5pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen
   const Eigen::EigenSolver<Eigen::Matrix<double, 10, 10>> eig(M);
   if (eig.info() != Eigen::Success) return 0;
 
+  // eigenvectors() returns a new matrix: keep it, so that its columns outlive the statement.
+  const Eigen::Matrix<std::complex<double>, 10, 10> vectors = eig.eigenvectors();
   int added = 0;
   for (int k = 0; k < 10; ++k) {
     const std::complex<double> lambda = eig.eigenvalues()[k];
     if (std::abs(lambda.imag()) > 1e-8 * std::max(1.0, std::abs(lambda.real()))) continue;
-    const auto v = eig.eigenvectors().col(k);
+    const auto v = vectors.col(k);
     const std::complex<double> w = v[9];  // the monomial 1
     if (std::abs(w) < 1e-14 * v.norm()) continue;
     const double x = (v[6] / w).real(), y = (v[7] / w).real(), z = (v[8] / w).real();
