@@ -75,14 +75,19 @@ TEST(Texture, RadialDistortionIsModelled) {
   }
 }
 
-TEST(Texture, UnseenFacesKeepTheirVertexColour) {
+// Two small views of the synthetic scene, for the tests that need photos but not their detail.
+RenderedScene SmallTwoViewScene() {
   RenderedSceneOptions o;
   o.num_images = 2;
   o.width = 160;
   o.height = 120;
   o.focal_start = 128;
   o.supersampling = 1;
-  const RenderedScene scene = RenderSyntheticScene(o);
+  return RenderSyntheticScene(o);
+}
+
+TEST(Texture, UnseenFacesKeepTheirVertexColour) {
+  const RenderedScene scene = SmallTwoViewScene();
   TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
   mesh.colors.assign(mesh.vertices.size(), Eigen::Matrix<uint8_t, 3, 1>(200, 40, 10));  // RGB
   // The only view looks away from the scene, so no face is textured from a photo.
@@ -102,19 +107,13 @@ TEST(Texture, UnseenFacesKeepTheirVertexColour) {
 }
 
 TEST(Texture, AMeshThePhotosDoNotShowIsAnError) {
-  RenderedSceneOptions o;
-  o.num_images = 2;
-  o.width = 160;
-  o.height = 120;
-  o.focal_start = 128;
-  o.supersampling = 1;
-  const RenderedScene scene = RenderSyntheticScene(o);
+  const RenderedScene scene = SmallTwoViewScene();
   const TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
   const auto load = [&](size_t v) { return scene.images[v]; };
   // From the scene's own cameras the mesh fills much of each photo.
   TextureStats stats;
-  TextureMesh(mesh, {{scene.cameras[0], scene.poses[0]}, {scene.cameras[1], scene.poses[1]}},
-              load, {}, &stats);
+  TextureMesh(mesh, {{scene.cameras[0], scene.poses[0]}, {scene.cameras[1], scene.poses[1]}}, load,
+              {}, &stats);
   EXPECT_GT(stats.mean_coverage, 0.2);
   // A view looking away sees none of it: one line naming the coverage.
   const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
