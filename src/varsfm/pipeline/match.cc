@@ -220,6 +220,11 @@ void MatchPairs(Database& db, ResultSettings& record, int64_t settings, const Im
     const size_t end = std::min(pairs.size(), begin + kPairsPerChunk);
     LoadFeatures(db, ImagePairs(pairs.begin() + begin, pairs.begin() + end),
                  options.matching.use_simd, &cache);
+    // The pipeline passes pair indices only; each result waits in a slot owned here. oneTBB
+    // allocates a token for a non-trivial type (a shared_ptr) and frees it only when the next
+    // filter's body returns, so an error or a kill (an exception) inside the pipeline leaked the
+    // results in flight; the slots are freed by unwinding like any other local.
+    std::vector<std::unique_ptr<PairResult>> results(end - begin);
     size_t next = begin;
     const auto feed = [&](tbb::flow_control& control) -> size_t {
       if (next == end) {
@@ -230,22 +235,21 @@ void MatchPairs(Database& db, ResultSettings& record, int64_t settings, const Im
     };
     const auto verify = [&](size_t k) {
       const auto [id1, id2] = pairs[k];
-      return std::make_shared<PairResult>(
+      results[k - begin] = std::make_unique<PairResult>(
           MatchPair(*cache.at(id1), *cache.at(id2), id1, id2, options));
+      return k;
     };
-    size_t written = begin;
-    const auto write = [&](const std::shared_ptr<PairResult>& result) {
-      writer.Write(pairs[written].first, pairs[written].second, *result);
-      ++written;
+    const auto write = [&](size_t k) {
+      writer.Write(pairs[k].first, pairs[k].second, *results[k - begin]);
+      results[k - begin].reset();
       progress.Tick();
     };
     // Tokens bound the results waiting for a slow pair ahead of them.
-    tbb::parallel_pipeline(2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
-                           tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order, feed) &
-                               tbb::make_filter<size_t, std::shared_ptr<PairResult>>(
-                                   tbb::filter_mode::parallel, verify) &
-                               tbb::make_filter<std::shared_ptr<PairResult>, void>(
-                                   tbb::filter_mode::serial_in_order, write));
+    tbb::parallel_pipeline(
+        2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
+        tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order, feed) &
+            tbb::make_filter<size_t, size_t>(tbb::filter_mode::parallel, verify) &
+            tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order, write));
   }
   writer.Finish();
   progress.Finish();
