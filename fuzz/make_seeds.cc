@@ -19,8 +19,8 @@
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
+#include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/ply.h"
-#include "varsfm/mesh/triangle_mesh.h"
 #include "varsfm/texture/obj_io.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // The triangle-mesh PLY reader (texture/mesh_reader.cc on io/ply_format.cc): the meshes
 // `varsfm texture` and `varsfm render` take, from varsfm or MeshLab, Open3D, CGAL.
 #include "fuzz_support.h"
-#include "varsfm/texture/mesh_reader.h"
+#include "varsfm/io/mesh_ply.h"
 #include "varsfm/util/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -13,6 +13,7 @@
 
 #include "support/test_data.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/util/error.h"
 

@@ -12,6 +12,7 @@
 #include "synthetic_mesh.h"
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/io/mesh_ply.h"
 #include "varsfm/synthetic/rendered_scene.h"
 
 namespace varsfm {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "support/test_data.h"
-#include "varsfm/texture/mesh_reader.h"
+#include "varsfm/io/mesh_ply.h"
 #include "varsfm/texture/obj_io.h"
 #include "varsfm/util/error.h"
 

@@ -11,7 +11,7 @@
 
 #include "varsfm/dense/match_propagation.h"
 #include "varsfm/dense/normals.h"
-#include "varsfm/io/ply.h"
+#include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
 
 namespace varsfm {

@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include "varsfm/feature/two_view_geometry.h"
 #include "varsfm/feature/types.h"
-#include "varsfm/matching/two_view_geometry.h"
 #include "varsfm/util/types.h"
 
 struct sqlite3;

@@ -1,24 +1,12 @@
 #pragma once
 // Coloured point clouds as PLY (binary little-endian): vertex x y z (float or double),
 // optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read.
-#include <cstdint>
 #include <filesystem>
-#include <vector>
 
-#include <Eigen/Core>
-
+#include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
 
 namespace varsfm {
-
-struct PointCloud {
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector3d> normals;              // empty, or one per point
-  std::vector<Eigen::Matrix<uint8_t, 3, 1>> colors;  // empty, or one per point
-
-  bool HasNormals() const { return !normals.empty(); }
-  bool HasColors() const { return !colors.empty(); }
-};
 
 struct PlyWriteOptions {
   // float halves the file and is what viewers expect; double keeps georeferenced coordinates

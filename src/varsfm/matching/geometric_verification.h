@@ -5,8 +5,8 @@
 // project's own (src/varsfm/estimators) replace them later.
 #include <cstdint>
 
+#include "varsfm/feature/two_view_geometry.h"
 #include "varsfm/feature/types.h"
-#include "varsfm/matching/two_view_geometry.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {

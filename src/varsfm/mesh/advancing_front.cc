@@ -7,7 +7,9 @@
 
 #include <CGAL/Advancing_front_surface_reconstruction.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <Eigen/Geometry>
 
+#include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {

@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
 

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "varsfm/io/ply.h"
+#include "varsfm/scene/point_cloud.h"
 
 namespace varsfm {
 

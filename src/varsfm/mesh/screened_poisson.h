@@ -6,8 +6,8 @@
 // on the data instead of the over-smoothed fit of the 2006 method. Open3D is used only here.
 #include <vector>
 
-#include "varsfm/io/ply.h"
-#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
 

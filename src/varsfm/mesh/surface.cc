@@ -4,7 +4,9 @@
 #include <cmath>
 #include <optional>
 
+#include "varsfm/io/ply.h"
 #include "varsfm/mesh/advancing_front.h"
+#include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/screened_poisson.h"
 #include "varsfm/util/error.h"

@@ -14,9 +14,9 @@
 #include <filesystem>
 #include <string>
 
-#include "varsfm/io/ply.h"
 #include "varsfm/mesh/mesh_quality.h"
-#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
 

@@ -2,6 +2,7 @@
 
 #include <system_error>
 
+#include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"

@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/surface.h"
-#include "varsfm/mesh/triangle_mesh.h"
 
 namespace varsfm {
 

@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
+#include "varsfm/feature/two_view_geometry.h"
 #include "varsfm/image/image_list.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply_format.h"
-#include "varsfm/matching/two_view_geometry.h"
 #include "varsfm/report/thumbnail.h"
 #include "varsfm/report/workspace_tables.h"
 #include "varsfm/scene/reconstruction.h"

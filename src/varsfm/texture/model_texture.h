@@ -7,8 +7,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "varsfm/mesh/triangle_mesh.h"
 #include "varsfm/scene/reconstruction.h"
+#include "varsfm/scene/triangle_mesh.h"
 #include "varsfm/texture/texture_mapping.h"
 
 namespace varsfm {

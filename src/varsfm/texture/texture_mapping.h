@@ -12,7 +12,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/scene/triangle_mesh.h"
 #include "varsfm/texture/textured_mesh.h"
 #include "varsfm/texture/view_selection.h"
 

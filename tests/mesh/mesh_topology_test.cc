@@ -1,4 +1,5 @@
-#include "varsfm/mesh/triangle_mesh.h"
+#include "varsfm/mesh/mesh_topology.h"
+#include "varsfm/io/mesh_ply.h"
 
 #include <fstream>
 #include <sstream>

@@ -1,5 +1,7 @@
 #pragma once
-// The verified geometry of an image pair, as COLMAP's two_view_geometries table stores it.
+// The verified geometry of an image pair, as COLMAP's two_view_geometries table stores it: the
+// result of geometric verification (matching/) and a row of the workspace database (io/), so it
+// lives beside the feature matches it holds.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

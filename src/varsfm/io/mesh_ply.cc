@@ -1,7 +1,9 @@
-#include "varsfm/texture/mesh_reader.h"
+#include "varsfm/io/mesh_ply.h"
 
+#include <cstdint>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "varsfm/io/ply_format.h"
@@ -11,6 +13,11 @@ namespace varsfm {
 namespace {
 
 namespace fs = std::filesystem;
+
+template <typename T>
+void Put(std::ofstream& out, T value) {
+  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
+}
 
 // Position of the property called `name` in `element`, -1 when it has none.
 int PropertyIndex(const ply::Element& element, const std::string& name) {
@@ -28,9 +35,45 @@ int VertexIndex(double value, const fs::path& file) {
 
 }  // namespace
 
+void WriteMeshPly(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const bool has_colors = !mesh.colors.empty();
+  if (has_colors && mesh.colors.size() != mesh.vertices.size()) {
+    Fail("{}: {} colours for {} vertices", file.string(), mesh.colors.size(), mesh.vertices.size());
+  }
+  const int n = static_cast<int>(mesh.vertices.size());
+  for (const Eigen::Vector3i& f : mesh.faces) {
+    if (f.minCoeff() < 0 || f.maxCoeff() >= n) Fail("{}: face index out of range", file.string());
+  }
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) Fail("{}: cannot write", file.string());
+    out << "ply\nformat binary_little_endian 1.0\ncomment varsfm mesh\n"
+        << "element vertex " << mesh.vertices.size() << "\n"
+        << "property float x\nproperty float y\nproperty float z\n";
+    if (has_colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    out << "element face " << mesh.faces.size() << "\n"
+        << "property list uchar int vertex_indices\nend_header\n";
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      for (int k = 0; k < 3; ++k) Put(out, static_cast<float>(mesh.vertices[i][k]));
+      if (has_colors) {
+        for (int k = 0; k < 3; ++k) Put(out, mesh.colors[i][k]);
+      }
+    }
+    for (const Eigen::Vector3i& f : mesh.faces) {
+      Put(out, static_cast<uint8_t>(3));
+      for (int k = 0; k < 3; ++k) Put(out, static_cast<int32_t>(f[k]));
+    }
+    if (!out.flush()) Fail("{}: write failed", file.string());
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) Fail("{}: cannot write ({})", file.string(), ec.message());
+}
+
 // The PLY grammar (header, types, ascii/binary records) is io/ply_format's; this only maps the
-// vertex and face elements onto a TriangleMesh. It lives in texture, not io, because io sits above
-// mesh (DEVELOPERS.md) and so cannot know TriangleMesh.
+// vertex and face elements onto a TriangleMesh.
 TriangleMesh ReadMeshPly(const fs::path& file) {
   if (!fs::is_regular_file(file)) Fail("{}: mesh file does not exist", file.string());
   std::ifstream in(file, std::ios::binary);

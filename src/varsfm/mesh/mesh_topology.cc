@@ -1,0 +1,47 @@
+#include "varsfm/mesh/mesh_topology.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace varsfm {
+
+EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh) {
+  std::unordered_map<uint64_t, int> uses;
+  uses.reserve(mesh.faces.size() * 2);
+  for (const Eigen::Vector3i& f : mesh.faces) {
+    for (int k = 0; k < 3; ++k) {
+      const uint64_t a = static_cast<uint32_t>(std::min(f[k], f[(k + 1) % 3]));
+      const uint64_t b = static_cast<uint32_t>(std::max(f[k], f[(k + 1) % 3]));
+      ++uses[(a << 32) | b];
+    }
+  }
+  EdgeTopology topology;
+  topology.num_edges = uses.size();
+  for (const auto& [edge, count] : uses) {
+    if (count == 1) ++topology.boundary_edges;
+    if (count > 2) ++topology.non_manifold_edges;
+  }
+  return topology;
+}
+
+void RemoveUnreferencedVertices(TriangleMesh* mesh) {
+  std::vector<int> remap(mesh->vertices.size(), -1);
+  for (const Eigen::Vector3i& f : mesh->faces) {
+    for (int k = 0; k < 3; ++k) remap[f[k]] = 0;
+  }
+  int next = 0;
+  for (size_t i = 0; i < remap.size(); ++i) {
+    if (remap[i] < 0) continue;
+    remap[i] = next;
+    mesh->vertices[next] = mesh->vertices[i];
+    if (!mesh->colors.empty()) mesh->colors[next] = mesh->colors[i];
+    ++next;
+  }
+  mesh->vertices.resize(next);
+  if (!mesh->colors.empty()) mesh->colors.resize(next);
+  for (Eigen::Vector3i& f : mesh->faces) {
+    for (int k = 0; k < 3; ++k) f[k] = remap[f[k]];
+  }
+}
+
+}  // namespace varsfm

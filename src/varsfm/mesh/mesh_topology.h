@@ -1,0 +1,22 @@
+#pragma once
+// The edge topology of a triangle mesh (is it manifold, is it closed) and its clean-up.
+#include <cstddef>
+
+#include "varsfm/scene/triangle_mesh.h"
+
+namespace varsfm {
+
+struct EdgeTopology {
+  size_t num_edges = 0;
+  size_t boundary_edges = 0;      // used by exactly one face
+  size_t non_manifold_edges = 0;  // used by more than two faces
+};
+
+// Counts undirected edges by how many faces use them: a manifold (possibly open) surface has
+// non_manifold_edges == 0; a closed one also has boundary_edges == 0.
+EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh);
+
+// Drops vertices no face references and renumbers the faces.
+void RemoveUnreferencedVertices(TriangleMesh* mesh);
+
+}  // namespace varsfm
