@@ -2,10 +2,11 @@
 // (synthetic/rendered_scene.h) filmed by a zooming camera, written as OUT/images/image_NNNN.png
 // with Strecha ground truth in OUT/gt/.
 //   render_sequence OUT NUM_IMAGES [--width 320] [--height 240] [--zoom 1.6] [--seed S]
-//                   [--path orbit|street] [--arc 60] [--step 0.1]
+//                   [--path orbit|street|street-and-back] [--arc 60] [--step 0.1]
 // orbit: around the room corner over --arc degrees for the whole sequence (zoom x1 -> x--zoom);
 // street: along a facade, --step metres per image (zoom in and out every 100 images), so that
-// every point stays in view for a bounded number of images however long the sequence.
+// every point stays in view for a bounded number of images however long the sequence;
+// street-and-back: along the facade for half the images and back to the start (a loop).
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -19,7 +20,7 @@ namespace {
 int Usage(const char* argv0) {
   std::fprintf(stderr,
                "usage: %s OUT NUM_IMAGES [--width W] [--height H] [--zoom Z] [--seed S] "
-               "[--path orbit|street] [--arc DEGREES] [--step METRES]\n",
+               "[--path orbit|street|street-and-back] [--arc DEGREES] [--step METRES]\n",
                argv0);
   return 2;
 }
@@ -49,8 +50,12 @@ int main(int argc, char** argv) {
         options.arc_degrees = std::stod(value);
       else if (flag == "--step")
         options.street_step = std::stod(value);
-      else if (flag == "--path" && (value == "orbit" || value == "street"))
-        options.path = value == "street" ? varsfm::CameraPath::kStreet : varsfm::CameraPath::kOrbit;
+      else if (flag == "--path" && value == "orbit")
+        options.path = varsfm::CameraPath::kOrbit;
+      else if (flag == "--path" && value == "street")
+        options.path = varsfm::CameraPath::kStreet;
+      else if (flag == "--path" && value == "street-and-back")
+        options.path = varsfm::CameraPath::kStreetAndBack;
       else
         return Usage(argv[0]);
     }

@@ -21,6 +21,7 @@
 #include "varsfm/io/database.h"
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/matching/vocabulary_tree_io.h"
 #include "varsfm/texture/obj_io.h"
 
 namespace {
@@ -310,6 +311,24 @@ void DatabaseSeeds(const fs::path& corpus, const fs::path& scratch) {
   Put(dir / "camera", row(4, 64, 48, 2, {doubles({50, 50, 32, 24})}));
 }
 
+// Two small trees (branching 2: a root with two leaves; branching 3 over two levels) from
+// clustered descriptors.
+void VocabularySeeds(const fs::path& corpus, const fs::path& scratch) {
+  for (const int depth : {1, 2}) {
+    varsfm::TrainingDescriptors descriptors(24, varsfm::VocabularyTree::kDimension);
+    for (int r = 0; r < descriptors.rows(); ++r)
+      for (int c = 0; c < descriptors.cols(); ++c)
+        descriptors(r, c) = static_cast<float>((r * 7 + c * 3) % 11 + (c == r % 6 ? 100 : 0));
+    varsfm::VocabularyTreeOptions options;
+    options.branching = depth == 1 ? 2 : 3;
+    options.depth = depth;
+    varsfm::WriteVocabularyTree(varsfm::VocabularyTree::Train(descriptors, options),
+                                scratch / "tree.voc");
+    Put(corpus / "vocabulary" / (depth == 1 ? "two_leaves.voc" : "two_levels.voc"),
+        Slurp(scratch / "tree.voc"));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -325,5 +344,6 @@ int main(int argc, char** argv) {
   ImageSeeds(corpus, scratch);
   GroundTruthSeeds(corpus);
   DatabaseSeeds(corpus, scratch);
+  VocabularySeeds(corpus, scratch);
   return 0;
 }

@@ -84,10 +84,14 @@ const CLI::Validator kNotNegative(
 Choices<varsfm::MatchStrategy> MatchStrategies() {
   using varsfm::MatchStrategy;
   Choices<MatchStrategy> choices;
-  for (const MatchStrategy s :
-       {MatchStrategy::kExhaustive, MatchStrategy::kSequential, MatchStrategy::kAuto})
+  for (const MatchStrategy s : {MatchStrategy::kExhaustive, MatchStrategy::kSequential,
+                                MatchStrategy::kRetrieval, MatchStrategy::kAuto})
     choices.emplace_back(varsfm::MatchStrategyName(s), s);
   return choices;
+}
+
+Choices<varsfm::RetrievalScoring> RetrievalScorings() {
+  return {{"l1", varsfm::RetrievalScoring::kL1}, {"l2", varsfm::RetrievalScoring::kL2}};
 }
 
 Choices<varsfm::RunStage> RunStages() {
@@ -217,8 +221,32 @@ void AddMatchCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("match", "match features of image pairs and verify them");
   cmd->add_option("--workspace", options->workspace, "workspace database")->required();
   AddChoice(cmd, "--strategy", &options->strategy, MatchStrategies(),
-            "every pair, each image with its next --overlap, or sequential above 40 images");
+            fmt::format("every pair, each image with its next --overlap, its top "
+                        "--retrieval-neighbors by a vocabulary tree, or retrieval above {} images",
+                        varsfm::kAutoRetrievalImages));
   cmd->add_option("--overlap", options->overlap, "sequential: each image with its next N")
+      ->capture_default_str();
+  cmd->add_option("--loop-interval", options->loop_interval,
+                  "sequential: every Nth image also with its retrieved images (loop closure; 0: "
+                  "none)")
+      ->capture_default_str();
+  cmd->add_option("--retrieval-neighbors", options->retrieval.num_neighbors,
+                  "retrieval: each image with its top K retrieved images")
+      ->capture_default_str();
+  cmd->add_option("--query-expansion", options->retrieval.query_expansion,
+                  "retrieval: best M images averaged into a second query (0: none)")
+      ->capture_default_str();
+  AddChoice(cmd, "--retrieval-scoring", &options->retrieval.scoring, RetrievalScorings(),
+            "distance of the TF-IDF vectors");
+  cmd->add_option("--vocabulary", options->vocabulary_file,
+                  "vocabulary tree file: read if it exists, else trained and saved there");
+  cmd->add_option("--vocabulary-branching", options->vocabulary.branching,
+                  "vocabulary tree: clusters per node")
+      ->capture_default_str();
+  cmd->add_option("--vocabulary-depth", options->vocabulary.depth, "vocabulary tree: levels")
+      ->capture_default_str();
+  cmd->add_option("--vocabulary-sample", options->vocabulary_sample,
+                  "vocabulary tree: descriptors to train on")
       ->capture_default_str();
   cmd->add_option("--ratio", options->matching.max_ratio, "Lowe's ratio test on descriptor angles")
       ->capture_default_str();
@@ -257,7 +285,9 @@ void AddRunCommand(CLI::App* app) {
   cmd->add_option("input", options->input, "folder of photos, or a video file")->required();
   cmd->add_option("output", options->output, "output folder")->required();
   AddChoice(cmd, "--matching", &options->matching, MatchStrategies(),
-            "auto: sequential for a video or above 40 images, else exhaustive");
+            fmt::format("auto: sequential for a video, retrieval above {} images, else "
+                        "exhaustive",
+                        varsfm::kAutoRetrievalImages));
   cmd->add_option("--max-features", options->extract.sift.max_features, "strongest features kept")
       ->capture_default_str();
   AddChoice(cmd, "--until", &options->until, RunStages(), "the last stage run");

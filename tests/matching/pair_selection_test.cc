@@ -27,5 +27,25 @@ TEST(PairSelection, SequentialPairsEachImageWithItsNextOverlap) {
   EXPECT_THROW(SequentialPairs({1, 2}, 0), Error);
 }
 
+TEST(PairSelection, RetrievedPairsOnceInExhaustiveOrder) {
+  // Mutual neighbours (0 and 2) give one pair; orientation as ExhaustivePairs.
+  const ImagePairs pairs = RetrievedPairs({7, 3, 5, 9}, {{2, 1}, {0}, {0, 3}, {1}});
+  const ImagePairs expected = {{7, 3}, {7, 5}, {3, 9}, {5, 9}};
+  EXPECT_EQ(pairs, expected);
+  EXPECT_THROW(RetrievedPairs({1, 2}, {{1}}), Error);
+  EXPECT_THROW(RetrievedPairs({1, 2}, {{5}, {}}), Error);
+}
+
+TEST(PairSelection, SequentialLoopPairsCloseTheLoopEveryInterval) {
+  const std::vector<image_t> images = {1, 2, 3, 4, 5, 6, 7};
+  // Image 6 (index 6) is where the walk returns to image 0; the neighbours of images the
+  // interval skips (index 1) are not read.
+  const std::vector<std::vector<uint32_t>> neighbors = {{6, 1}, {5}, {}, {}, {}, {}, {0}};
+  const ImagePairs pairs = SequentialLoopPairs(images, 1, 3, neighbors);
+  const ImagePairs expected = {{1, 2}, {1, 7}, {2, 3}, {3, 4}, {4, 5}, {5, 6}, {6, 7}};
+  EXPECT_EQ(pairs, expected);
+  EXPECT_THROW(SequentialLoopPairs(images, 1, 0, neighbors), Error);
+}
+
 }  // namespace
 }  // namespace varsfm

@@ -74,7 +74,7 @@ TEST_F(CommandLineErrors, ZeroOverlapNamesItsRangeReadably) {
 
 TEST_F(CommandLineErrors, UnknownStrategyAndStageNameTheirChoices) {
   ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --strategy bogus"), 2,
-                     "--strategy: expected exhaustive, sequential or auto, got bogus");
+                     "--strategy: expected exhaustive, sequential, retrieval or auto, got bogus");
   ExpectOneLineError(RunVarsfm(fmt::format("run {} {} --until everything", ShellQuote(tmp_.path()),
                                            ShellQuote(tmp_.path() / "out"))),
                      2, "--until: expected sparse, dense, mesh or texture, got everything");

@@ -16,6 +16,7 @@
 #include "varsfm/io/database.h"
 #include "varsfm/io/result_settings.h"
 #include "varsfm/matching/pair_selection.h"
+#include "varsfm/pipeline/retrieval_neighbors.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -31,10 +32,6 @@ namespace {
 constexpr size_t kPairsPerChunk = 256;
 // A transaction holds at most this many pairs (besides the time limit, commit_interval).
 constexpr size_t kPairsPerCommit = 256;
-
-// kAuto matches sequentially above this many images: exhaustive matching's pairs grow with the
-// square of the count, and larger sets are mostly walked or filmed sequences.
-constexpr size_t kAutoSequentialImages = 40;
 
 struct LoadedImage {
   FeatureKeypoints keypoints;
@@ -255,6 +252,28 @@ void MatchPairs(Database& db, ResultSettings& record, int64_t settings, const Im
   progress.Finish();
 }
 
+ImagePairs SelectPairs(const Database& db, const std::vector<image_t>& ids, MatchStrategy strategy,
+                       const MatchOptions& options) {
+  switch (strategy) {
+    case MatchStrategy::kRetrieval:
+      return RetrievedPairs(
+          ids, RetrieveNeighbors(db, ids, std::vector<bool>(ids.size(), true), options));
+    case MatchStrategy::kSequential: {
+      if (options.loop_interval == 0) return SequentialPairs(ids, options.overlap);
+      std::vector<bool> is_query(ids.size(), false);
+      for (size_t i = 0; i < ids.size(); i += static_cast<size_t>(options.loop_interval))
+        is_query[i] = true;
+      return SequentialLoopPairs(
+          ids, options.overlap, options.loop_interval,
+          RetrieveNeighbors(db, ids, is_query, options, static_cast<size_t>(options.overlap)));
+    }
+    case MatchStrategy::kExhaustive:
+    case MatchStrategy::kAuto:
+      break;
+  }
+  return ExhaustivePairs(ids);
+}
+
 }  // namespace
 
 std::string_view MatchStrategyName(MatchStrategy strategy) {
@@ -263,6 +282,8 @@ std::string_view MatchStrategyName(MatchStrategy strategy) {
       return "exhaustive";
     case MatchStrategy::kSequential:
       return "sequential";
+    case MatchStrategy::kRetrieval:
+      return "retrieval";
     case MatchStrategy::kAuto:
       break;
   }
@@ -271,6 +292,12 @@ std::string_view MatchStrategyName(MatchStrategy strategy) {
 
 void MatchOptions::Check() const {
   CheckAtLeast("--overlap", overlap, 1);
+  CheckAtLeast("--loop-interval", loop_interval, 0);
+  retrieval.Check();
+  vocabulary.Check();
+  CheckAtLeast("--vocabulary-sample", vocabulary_sample, 1000);
+  if (!vocabulary_file.empty() && std::filesystem::is_directory(vocabulary_file))
+    FailOption("--vocabulary", "a file", vocabulary_file.string());
   matching.Check();
   verification.Check();
   CheckAtLeast("--threads", num_threads, 0);
@@ -300,11 +327,9 @@ MatchSummary RunMatching(const MatchOptions& options) {
   MatchSummary summary;
   summary.strategy = options.strategy;
   if (summary.strategy == MatchStrategy::kAuto)
-    summary.strategy = images.size() > kAutoSequentialImages ? MatchStrategy::kSequential
-                                                             : MatchStrategy::kExhaustive;
-  const ImagePairs all_pairs = summary.strategy == MatchStrategy::kExhaustive
-                                   ? ExhaustivePairs(ids)
-                                   : SequentialPairs(ids, options.overlap);
+    summary.strategy = images.size() > kAutoRetrievalImages ? MatchStrategy::kRetrieval
+                                                            : MatchStrategy::kExhaustive;
+  const ImagePairs all_pairs = SelectPairs(db, ids, summary.strategy, options);
   summary.num_images = images.size();
   summary.num_pairs = all_pairs.size();
   ResultSettings record(db);

@@ -11,6 +11,8 @@
 
 #include "varsfm/matching/descriptor_matcher.h"
 #include "varsfm/matching/geometric_verification.h"
+#include "varsfm/matching/image_retrieval.h"
+#include "varsfm/matching/vocabulary_tree.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
@@ -18,17 +20,32 @@ namespace varsfm {
 // Which image pairs are matched.
 enum class MatchStrategy {
   kExhaustive,  // every pair
-  kSequential,  // each image with the next `overlap` in name order (video, walked sequences)
-  kAuto,        // sequential above kAutoSequentialImages images, exhaustive up to it
+  kSequential,  // each image with the next `overlap` in name order (video, walked sequences),
+                // plus retrieval every `loop_interval` images (loop closure)
+  kRetrieval,   // each image with its top-k retrieved images (vocabulary tree)
+  kAuto,        // exhaustive up to kAutoRetrievalImages images, retrieval above
 };
 
-// "exhaustive", "sequential", "auto": the names the command line takes and summaries give.
+// kAuto matches exhaustively up to this many images and by retrieval above.
+inline constexpr size_t kAutoRetrievalImages = 50;
+
+// "exhaustive", "sequential", "retrieval", "auto": the names the command line takes and summaries
+// give.
 std::string_view MatchStrategyName(MatchStrategy strategy);
 
 struct MatchOptions {
   std::filesystem::path workspace;  // must exist, with features from `varsfm extract`
   MatchStrategy strategy = MatchStrategy::kExhaustive;
   int overlap = 10;  // sequential: each image with its next `overlap`
+  // Sequential: every loop_interval-th image also with its retrieved neighbours (0: none).
+  int loop_interval = 0;
+  RetrievalOptions retrieval;        // retrieval and loop closure
+  VocabularyTreeOptions vocabulary;  // its seed is replaced by `seed`
+  // Descriptors sampled evenly over the images to train the tree on.
+  int vocabulary_sample = 200000;
+  // A vocabulary tree file: read if it exists, else trained and written there (empty: trained,
+  // not kept).
+  std::filesystem::path vocabulary_file;
   DescriptorMatchOptions matching;
   VerificationOptions verification;  // its seed is replaced by one derived per pair
   uint64_t seed = kDefaultSeed;

@@ -27,7 +27,7 @@ std::string_view RunStageName(RunStage stage);
 struct RunOptions {
   std::filesystem::path input;   // a folder of photos or a video file
   std::filesystem::path output;  // OUT
-  // kAuto: sequential for video (and, as MatchStrategy::kAuto says, for many images).
+  // kAuto: sequential for video; else as MatchStrategy::kAuto says (retrieval for many images).
   MatchStrategy matching = MatchStrategy::kAuto;
   ExtractOptions extract;               // workspace / image_dir / video are filled in by RunAll
   MatchOptions match;                   // workspace / strategy filled in

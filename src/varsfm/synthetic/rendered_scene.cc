@@ -147,8 +147,10 @@ cv::Vec3f Trace(const std::vector<TexturedQuad>& quads, const Eigen::Vector3d& o
 RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
   o.Check();
   Rng rng(o.seed);
-  const bool street = o.path == CameraPath::kStreet;
-  const double street_length = o.street_step * (o.num_images - 1);
+  const bool street = o.path != CameraPath::kOrbit;
+  const bool back = o.path == CameraPath::kStreetAndBack;
+  const int turn = (o.num_images - 1) / 2;  // kStreetAndBack: the last image going out
+  const double street_length = o.street_step * (back ? turn : o.num_images - 1);
   const std::vector<TexturedQuad> all_quads =
       street ? MakeStreetScene(-8.0, street_length + 8.0, rng) : MakeRoomScene(rng);
   RenderedScene scene;
@@ -162,9 +164,11 @@ RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
       // meanders in height and distance (camera centres on a line would leave the rotation
       // about it out of the evaluation's similarity alignment); the zoom goes in and out with a
       // period of 100 images.
-      const double x = i * o.street_step;
-      centre = Eigen::Vector3d(x, -0.4 + 0.3 * std::sin(0.05 * i), 0.6 * std::sin(0.031 * i));
-      target = Eigen::Vector3d(x + 0.8 + jitter(rng), 0.3 + jitter(rng), 4.0);
+      const bool returning = back && i > turn;
+      const double x = (returning ? 2 * turn + 1 - i : i) * o.street_step;
+      centre = Eigen::Vector3d(x, -0.4 + 0.3 * std::sin(0.05 * i),
+                               0.6 * std::sin(0.031 * i) + (returning ? 1.0 : 0.0));
+      target = Eigen::Vector3d(x + (returning ? -0.8 : 0.8) + jitter(rng), 0.3 + jitter(rng), 4.0);
       zoom_fraction = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / 100.0);
     } else {
       const double a = (t - 0.5) * o.arc_degrees * std::numbers::pi / 180.0;

@@ -20,8 +20,10 @@ namespace varsfm {
 // sequence (the demo). kStreet: along a facade that goes on as far as the sequence needs, a
 // fixed step per image, the zoom going in and out every 100 images: each point stays in view
 // for a bounded number of images however long the sequence, as in a video walked or flown
-// along a street (bench/scale's long sequences).
-enum class CameraPath { kOrbit, kStreet };
+// along a street (bench/scale's long sequences). kStreetAndBack: the first half of the images
+// along the street, the second half back to the start 1 m nearer the facade, looking the other
+// way ahead: a walk whose end overlaps its start (loop closure).
+enum class CameraPath { kOrbit, kStreet, kStreetAndBack };
 
 struct RenderedSceneOptions {
   CameraPath path = CameraPath::kOrbit;
