@@ -2,6 +2,8 @@
 // determinism at any thread count, and its file: round trip, and corrupt files refused.
 #include "varsfm/matching/vocabulary_tree.h"
 
+#include <unistd.h>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -39,8 +41,9 @@ TrainingDescriptors AsTraining(const FeatureDescriptors& descriptors) {
 }
 
 std::filesystem::path TempFile(const std::string& name) {
+  // ctest runs each test in its own process, possibly at once: a name per process.
   return std::filesystem::temp_directory_path() /
-         (name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + ".voc");
+         ("varsfm_" + name + "_" + std::to_string(::getpid()) + ".voc");
 }
 
 VocabularyTree SmallTree() {

@@ -3,6 +3,8 @@
 // coming back see the same stretch. Each frame's retrieved images are frames that see the same
 // stretch, the same at any thread count; sequential matching with loop closure links the walk's
 // end to its start; a saved vocabulary tree is reused and a corrupt one refused.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -36,7 +38,8 @@ double StreetPosition(int i) {
 class RetrievalOnRenderedWalk : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    tmp_ = new testing::TempDir("retrieval_walk");
+    // ctest runs each test in its own process, possibly at once: a folder per process.
+    tmp_ = new testing::TempDir("retrieval_walk_" + std::to_string(::getpid()));
     RenderedSceneOptions scene;
     scene.path = CameraPath::kStreetAndBack;
     scene.street_step = kStep;
