@@ -103,6 +103,34 @@ Choices<varsfm::RunStage> RunStages() {
   return choices;
 }
 
+Choices<varsfm::DenseMethod> DenseMethods() {
+  using varsfm::DenseMethod;
+  Choices<DenseMethod> choices;
+  for (const DenseMethod m : {DenseMethod::kPropagation, DenseMethod::kPatchMatch,
+                              DenseMethod::kSeeded, DenseMethod::kFill, DenseMethod::kSeededFill})
+    choices.emplace_back(varsfm::DenseMethodName(m), m);
+  return choices;
+}
+
+// The dense method and its multi-view stereo settings (densify and run).
+void AddDenseMethodOptions(CLI::App* cmd, varsfm::DensifyOptions* dense) {
+  AddChoice(cmd, "--dense-method", &dense->method, DenseMethods(),
+            "match propagation, PatchMatch depth maps, PatchMatch started from propagation, "
+            "propagation filled by PatchMatch, or both");
+  cmd->add_option("--dense-max-image-size", dense->mvs.max_image_size,
+                  "PatchMatch depth map size (longer side, px)")
+      ->capture_default_str();
+  cmd->add_option("--dense-source-views", dense->mvs.sources.num_source_views,
+                  "PatchMatch source views per depth map (1 to 16)")
+      ->capture_default_str();
+  cmd->add_option("--dense-iterations", dense->mvs.patchmatch.num_iterations,
+                  "PatchMatch iterations (red and black sweeps)")
+      ->capture_default_str();
+  cmd->add_option("--dense-min-views", dense->mvs.fusion.min_fused_views,
+                  "views a fused PatchMatch point needs")
+      ->capture_default_str();
+}
+
 void AddLogLevelOption(CLI::App* app) {
   static const Choices<spdlog::level::level_enum> kLevels = {
       {"trace", spdlog::level::trace}, {"debug", spdlog::level::debug},
@@ -291,6 +319,7 @@ void AddRunCommand(CLI::App* app) {
   cmd->add_option("--max-features", options->extract.sift.max_features, "strongest features kept")
       ->capture_default_str();
   AddChoice(cmd, "--until", &options->until, RunStages(), "the last stage run");
+  AddDenseMethodOptions(cmd, &options->dense);
   cmd->add_option("--holdout", options->holdout,
                   "keep every N-th registered image (by name) out of densify and texture, then "
                   "score the model on those views (PSNR, SSIM, coverage); 0: none")
@@ -344,7 +373,8 @@ void AddDemoCommand(CLI::App* app) {
 // densify: sparse model + photos -> dense coloured point cloud by match propagation.
 void AddDensifyCommand(CLI::App* app) {
   auto options = std::make_shared<varsfm::DensifyCommandOptions>();
-  CLI::App* cmd = app->add_subcommand("densify", "quasi-dense point cloud by match propagation");
+  CLI::App* cmd = app->add_subcommand(
+      "densify", "dense point cloud by match propagation and/or PatchMatch depth maps");
   cmd->add_option("--workspace", options->workspace, "workspace database (optional)");
   cmd->add_option("--sparse", options->sparse,
                   "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
@@ -361,6 +391,7 @@ void AddDensifyCommand(CLI::App* app) {
                   "leave every N-th registered image (by name) out (0: none)");
   cmd->add_option("--threads", options->dense.num_threads, "threads (0: all cores)")
       ->capture_default_str();
+  AddDenseMethodOptions(cmd, &options->dense);
   cmd->callback([options] { varsfm::RunDensify(*options); });
 }
 

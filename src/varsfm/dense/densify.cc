@@ -206,49 +206,6 @@ struct Fusion {
 
 }  // namespace
 
-UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, double scale) {
-  if (image.empty()) Fail("densify: empty image for camera {}", camera.camera_id);
-  UndistortedView out;
-  const int width = std::max(1, static_cast<int>(std::lround(image.cols * scale)));
-  const int height = std::max(1, static_cast<int>(std::lround(image.rows * scale)));
-  const double sx = static_cast<double>(width) / image.cols;
-  const double sy = static_cast<double>(height) / image.rows;
-  // With the pixel-corner origin, scaling pixel coordinates is exact: x' = s x.
-  Camera scaled = camera;
-  scaled.params[Camera::kFocal] *= sx;
-  scaled.params[Camera::kAspect] *= sy / sx;
-  scaled.params[Camera::kSkew] *= sx;
-  scaled.params[Camera::kU0] *= sx;
-  scaled.params[Camera::kV0] *= sy;
-  cv::Mat source = image;
-  if (width != image.cols || height != image.rows)
-    cv::resize(image, source, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-  out.K = scaled.K();
-  out.scale = sx;
-  if (!scaled.HasDistortion()) {
-    out.color = source.clone();
-  } else {
-    const Eigen::Matrix3d K_inv = out.K.inverse();
-    cv::Mat map_x(height, width, CV_32F), map_y(height, width, CV_32F);
-    cv::parallel_for_(cv::Range(0, height), [&](const cv::Range& rows) {
-      for (int r = rows.start; r < rows.end; ++r)
-        for (int c = 0; c < width; ++c) {
-          const Eigen::Vector3d n = K_inv * Eigen::Vector3d(c + 0.5, r + 0.5, 1.0);
-          const Eigen::Vector2d x = scaled.NormalizedToImage(n.hnormalized());
-          // OpenCV samples with pixel centres at integers.
-          map_x.at<float>(r, c) = static_cast<float>(x.x() - 0.5);
-          map_y.at<float>(r, c) = static_cast<float>(x.y() - 0.5);
-        }
-    });
-    cv::remap(source, out.color, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-  }
-  if (out.color.channels() == 3)
-    cv::cvtColor(out.color, out.gray, cv::COLOR_BGR2GRAY);
-  else
-    out.gray = out.color, cv::cvtColor(out.gray, out.color, cv::COLOR_GRAY2BGR);
-  return out;
-}
-
 std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& rec,
                                                           const DensifyOptions& options) {
   const auto shared = SharedPoints(rec);
@@ -278,21 +235,16 @@ std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& 
   return {pairs.begin(), pairs.end()};
 }
 
-PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
-                   const DensifyOptions& options, DensifyStats* stats) {
-  if (rec.NumRegisteredImages() < 2)
-    Fail("densify: the sparse model has {} registered images; at least 2 are needed",
-         rec.NumRegisteredImages());
-  std::optional<tbb::global_control> threads;
-  if (options.num_threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism, options.num_threads);
+namespace {
+
+PointCloud DensifyByPropagation(const Reconstruction& rec,
+                                const std::function<cv::Mat(image_t)>& load_image,
+                                const DensifyOptions& options, DensifyStats& st,
+                                DenseVisibility* visibility) {
   const auto pairs = SelectDensePairs(rec, options);
   if (pairs.empty())
     Fail("densify: no image pair shares {} points with a triangulation angle of {}..{} deg",
          options.min_shared_points, options.min_pair_angle_deg, options.max_pair_angle_deg);
-  DensifyStats local;
-  DensifyStats& st = stats ? *stats : local;
-  st = {};
   st.num_pairs = pairs.size();
 
   // Views involved in a pair, each loaded and undistorted once.
@@ -364,6 +316,7 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
   std::vector<uint32_t> valid(n, 0);
   std::vector<uint32_t> first_view(n, UINT32_MAX);
   const double max_err2 = 4 * options.max_reprojection_error * options.max_reprojection_error;
+  std::vector<std::vector<image_t>> seen_by(visibility ? n : 0);
   for (const auto& obs : fusion.observations) {
     const Eigen::Vector3d X = fusion.sum[obs.point] / fusion.count[obs.point];
     const Eigen::Vector3d h = ProjectH(views[obs.view].P, X);
@@ -371,12 +324,20 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
       continue;
     ++valid[obs.point];
     if (first_view[obs.point] == UINT32_MAX) first_view[obs.point] = obs.view;
+    if (visibility) seen_by[obs.point].push_back(views[obs.view].image_id);
   }
+  if (visibility) visibility->clear();
   PointCloud cloud;
   std::vector<Eigen::Vector3d> centers;
   std::vector<double> footprints;  // size of a matching pixel at the point (for the normals)
   for (size_t i = 0; i < n; ++i) {
     if (valid[i] < static_cast<uint32_t>(options.min_views)) continue;
+    if (visibility) {
+      std::vector<image_t>& ids = seen_by[i];
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      visibility->push_back(std::move(ids));
+    }
     const Eigen::Vector3d X = fusion.sum[i] / fusion.count[i];
     const Eigen::Vector3f c = fusion.color_sum[i] / static_cast<float>(fusion.count[i]);
     cloud.points.push_back(X);
@@ -405,7 +366,68 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
   return cloud;
 }
 
+// Appends b (and its visibility) to a.
+void Append(PointCloud&& b, DenseVisibility&& b_visibility, PointCloud* a,
+            DenseVisibility* a_visibility) {
+  a->points.insert(a->points.end(), b.points.begin(), b.points.end());
+  a->normals.insert(a->normals.end(), b.normals.begin(), b.normals.end());
+  a->colors.insert(a->colors.end(), b.colors.begin(), b.colors.end());
+  if (a_visibility)
+    for (auto& ids : b_visibility) a_visibility->push_back(std::move(ids));
+}
+
+}  // namespace
+
+std::string_view DenseMethodName(DenseMethod method) {
+  switch (method) {
+    case DenseMethod::kPropagation:
+      return "propagation";
+    case DenseMethod::kPatchMatch:
+      return "patchmatch";
+    case DenseMethod::kSeeded:
+      return "seeded";
+    case DenseMethod::kFill:
+      return "fill";
+    case DenseMethod::kSeededFill:
+      return "seeded-fill";
+  }
+  return "?";
+}
+
+PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
+                   const DensifyOptions& options, DensifyStats* stats,
+                   DenseVisibility* visibility) {
+  if (rec.NumRegisteredImages() < 2)
+    Fail("densify: the sparse model has {} registered images; at least 2 are needed",
+         rec.NumRegisteredImages());
+  std::optional<tbb::global_control> threads;
+  if (options.num_threads > 0)
+    threads.emplace(tbb::global_control::max_allowed_parallelism, options.num_threads);
+  DensifyStats local;
+  DensifyStats& st = stats ? *stats : local;
+  st = {};
+  if (options.method == DenseMethod::kPatchMatch)
+    return MultiViewStereo(rec, load_image, options.mvs, {}, visibility, &st.mvs);
+  PointCloud cloud = DensifyByPropagation(rec, load_image, options, st, visibility);
+  if (options.method == DenseMethod::kPropagation) return cloud;
+  MultiViewStereoInputs inputs;
+  if (options.method == DenseMethod::kSeeded || options.method == DenseMethod::kSeededFill)
+    inputs.prior = &cloud;
+  if (options.method == DenseMethod::kFill || options.method == DenseMethod::kSeededFill)
+    inputs.covered = &cloud;
+  DenseVisibility mvs_visibility;
+  PointCloud mvs = MultiViewStereo(rec, load_image, options.mvs, inputs,
+                                   visibility ? &mvs_visibility : nullptr, &st.mvs);
+  if (options.method == DenseMethod::kSeeded) {
+    if (visibility) *visibility = std::move(mvs_visibility);
+    return mvs;
+  }
+  Append(std::move(mvs), std::move(mvs_visibility), &cloud, visibility);
+  return cloud;
+}
+
 void DensifyOptions::Check() const {
+  if (method != DenseMethod::kPropagation) mvs.Check();
   CheckInRange("--partners", max_partners, 1, 10);
   CheckAtLeast("min_shared_points", min_shared_points, 1);
   CheckInRange("min_pair_angle_deg", min_pair_angle_deg, 0, 180);

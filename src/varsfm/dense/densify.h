@@ -2,21 +2,36 @@
 // Dense reconstruction from a sparse model (the paper's last stage before the surface): image
 // pairs are chosen from the shared 3D points, undistorted, matched quasi-densely by match
 // propagation seeded with the sparse points (Lhuillier & Quan 2002), the matches triangulated
-// with the known cameras, fused across pairs, coloured, and given PCA normals.
+// with the known cameras, fused across pairs, coloured, and given PCA normals. Or multi-view
+// stereo by PatchMatch depth maps (multi_view_stereo.h), alone or with propagation.
 #include <filesystem>
 #include <functional>
+#include <string_view>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 #include "varsfm/dense/match_propagation.h"
+#include "varsfm/dense/multi_view_stereo.h"
 #include "varsfm/dense/normals.h"
+#include "varsfm/dense/undistorted_view.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
 
 namespace varsfm {
 
+// How the dense cloud is made.
+enum class DenseMethod {
+  kPropagation,  // match propagation of image pairs (the paper's method)
+  kPatchMatch,   // PatchMatch depth maps started from the sparse points, fused
+  kSeeded,       // PatchMatch depth maps started from propagation's points, fused
+  kFill,         // propagation's points, and PatchMatch's where propagation has none
+  kSeededFill,   // kFill with PatchMatch started from propagation's points
+};
+
 struct DensifyOptions {
+  DenseMethod method = DenseMethod::kPropagation;
+  MultiViewStereoOptions mvs;  // for every method but kPropagation
   // Pair selection: partners share >= min_shared_points 3D points whose median triangulation
   // angle lies in [min, max] degrees; each image keeps its best `max_partners` (most shared).
   int max_partners = 2;
@@ -40,19 +55,6 @@ struct DensifyOptions {
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
-// The undistorted, possibly downscaled image of a registered view and its pinhole camera.
-struct UndistortedView {
-  cv::Mat color;  // BGR 8-bit
-  cv::Mat gray;
-  Eigen::Matrix3d K;
-  double scale = 1.0;  // matching image size / original size
-};
-
-// Undistorts `image` (the original photo of `camera`) into a pinhole image with the same K
-// (scaled by `scale`): every output pixel samples the photo where the full camera model
-// (distortion included) projects its ray.
-UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, double scale);
-
 struct DensifyStats {
   size_t num_pairs = 0;
   size_t num_matches = 0;          // quasi-dense matches over all pairs
@@ -62,16 +64,22 @@ struct DensifyStats {
   double seconds_propagation = 0;  // propagation and triangulation of all pairs
   double seconds_fusion = 0;       // fusion and the reprojection check
   double seconds_normals = 0;
+  MultiViewStereoStats mvs;  // zeros for kPropagation
 };
 
 // The image pairs densify would match (image ids, first < second, sorted).
 std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& reconstruction,
                                                           const DensifyOptions& options);
 
-// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). Throws
-// varsfm::Error when the model has fewer than two registered images or no usable pair.
+// "propagation", "patchmatch", "seeded", "fill", "seeded-fill".
+std::string_view DenseMethodName(DenseMethod method);
+
+// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). `visibility`, when
+// given, gets the ids of the images that see each point. Throws varsfm::Error when the model has
+// fewer than two registered images or no usable pair.
 PointCloud Densify(const Reconstruction& reconstruction,
                    const std::function<cv::Mat(image_t)>& load_image,
-                   const DensifyOptions& options = {}, DensifyStats* stats = nullptr);
+                   const DensifyOptions& options = {}, DensifyStats* stats = nullptr,
+                   DenseVisibility* visibility = nullptr);
 
 }  // namespace varsfm

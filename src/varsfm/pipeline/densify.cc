@@ -7,6 +7,7 @@
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/io/point_visibility.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -21,6 +22,11 @@ void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult&
   const DensifyStats& st = r.stats;
   const nlohmann::json summary = {
       {"points", r.num_points},
+      {"method", DenseMethodName(r.method)},
+      {"depth_maps", st.mvs.num_views},
+      {"depths", st.mvs.num_depths},
+      {"consistent_depths", st.mvs.num_consistent},
+      {"patchmatch_points", st.mvs.num_points},
       {"pairs", st.num_pairs},
       {"matches", st.num_matches},
       {"triangulated", st.num_triangulated},
@@ -29,6 +35,9 @@ void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult&
         {"propagation", st.seconds_propagation},
         {"fusion", st.seconds_fusion},
         {"normals", st.seconds_normals},
+        {"mvs_undistort", st.mvs.seconds_undistort},
+        {"patchmatch", st.mvs.seconds_patchmatch},
+        {"depth_fusion", st.mvs.seconds_fusion},
         {"check", seconds_check},
         {"total", r.seconds}}},
       // Distances in units of the median camera-to-point depth of the sparse model.
@@ -77,9 +86,12 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
     return pixels;
   };
   DensifyCommandResult result;
-  const PointCloud cloud = Densify(rec, load, options.dense, &result.stats);
+  result.method = options.dense.method;
+  PointVisibility visibility;
+  const PointCloud cloud = Densify(rec, load, options.dense, &result.stats, &visibility);
   std::filesystem::create_directories(options.output);
   WritePly(options.output / "dense.ply", cloud);
+  WritePointVisibility(options.output / "dense.ply.vis", visibility);
   result.num_points = cloud.points.size();
   Timer check_timer;
   result.quality = MeasureAgainstSparse(cloud.points, rec);

@@ -1,6 +1,7 @@
 #pragma once
 // Stage 4 of the pipeline: a sparse model and its photos in, a dense coloured point cloud with
-// normals out (OUT/dense.ply), by match propagation (dense/densify.h), and OUT/dense_summary.json
+// normals out (OUT/dense.ply, and OUT/dense.ply.vis: which images see each point), by match
+// propagation and/or PatchMatch depth maps (dense/densify.h), and OUT/dense_summary.json
 // (counts, seconds per phase, and how close the dense points lie to the sparse model).
 #include <filesystem>
 
@@ -25,6 +26,7 @@ struct DensifyCommandOptions {
 };
 
 struct DensifyCommandResult {
+  DenseMethod method = DenseMethod::kPropagation;
   DensifyStats stats;
   SparseDistanceStats quality;  // the dense points against the sparse model
   size_t num_points = 0;

@@ -1,0 +1,173 @@
+#include "varsfm/dense/depth_fusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+
+#include "varsfm/util/option_check.h"
+
+namespace varsfm {
+namespace {
+
+// A view's projection, precomputed once.
+struct ViewGeometry {
+  Eigen::Matrix3d K, K_inv, R;
+  Eigen::Vector3d t;
+  int width = 0, height = 0;
+
+  explicit ViewGeometry(const FusionView& v)
+      : K(v.K),
+        K_inv(v.K.inverse()),
+        R(v.cam_from_world.R()),
+        t(v.cam_from_world.translation),
+        width(v.map.width),
+        height(v.map.height) {}
+
+  // The world point at pixel (x, y) (its centre) and depth.
+  Eigen::Vector3d Unproject(int x, int y, double depth) const {
+    const Eigen::Vector3d camera = depth * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0));
+    return R.transpose() * (camera - t);
+  }
+
+  // The pixel X falls in and its depth; false behind the camera or outside the image.
+  bool Project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel, double* depth) const {
+    const Eigen::Vector3d h = K * (R * X + t);
+    if (h.z() <= 0) return false;
+    *pixel = h.hnormalized();
+    *depth = h.z();
+    return pixel->x() >= 0 && pixel->y() >= 0 && pixel->x() < width && pixel->y() < height;
+  }
+};
+
+size_t PixelIndex(const ViewGeometry& g, const Eigen::Vector2d& pixel) {
+  return static_cast<size_t>(pixel.y()) * g.width + static_cast<size_t>(pixel.x());
+}
+
+// How many other views confirm the depth of pixel (x, y) of view v: their depth where the point
+// projects, unprojected and projected back into v, lands within the reprojection tolerance of
+// the pixel at the same depth.
+int ConsistentViews(const std::vector<FusionView>& views, const std::vector<ViewGeometry>& geometry,
+                    size_t v, int x, int y, const DepthFusionOptions& options) {
+  const ViewGeometry& g = geometry[v];
+  const double depth = views[v].map.depth[views[v].map.Index(x, y)];
+  const Eigen::Vector3d X = g.Unproject(x, y, depth);
+  const Eigen::Vector2d centre(x + 0.5, y + 0.5);
+  const double max_error2 = options.max_reprojection_error * options.max_reprojection_error;
+  int consistent = 0;
+  for (size_t u = 0; u < views.size(); ++u) {
+    if (u == v) continue;
+    Eigen::Vector2d q;
+    double depth_u;
+    if (!geometry[u].Project(X, &q, &depth_u)) continue;
+    const int qx = static_cast<int>(q.x()), qy = static_cast<int>(q.y());
+    const float source_depth = views[u].map.depth[views[u].map.Index(qx, qy)];
+    if (source_depth <= 0) continue;
+    const Eigen::Vector3d back = geometry[u].Unproject(qx, qy, source_depth);
+    Eigen::Vector2d p;
+    double depth_back;
+    if (!g.Project(back, &p, &depth_back)) continue;
+    if ((p - centre).squaredNorm() <= max_error2 &&
+        std::abs(depth_back - depth) <= options.max_depth_difference * depth)
+      ++consistent;
+  }
+  return consistent;
+}
+
+}  // namespace
+
+void FilterByGeometricConsistency(std::vector<FusionView>* views,
+                                  const DepthFusionOptions& options) {
+  std::vector<ViewGeometry> geometry;
+  for (const FusionView& v : *views) geometry.emplace_back(v);
+  std::vector<std::vector<uint8_t>> keep(views->size());
+  tbb::parallel_for(size_t{0}, views->size(), [&](size_t v) {
+    const DepthMap& map = (*views)[v].map;
+    keep[v].assign(map.depth.size(), 0);
+    tbb::parallel_for(0, map.height, [&](int y) {
+      for (int x = 0; x < map.width; ++x)
+        if (map.depth[map.Index(x, y)] > 0)
+          keep[v][map.Index(x, y)] =
+              ConsistentViews(*views, geometry, v, x, y, options) >= options.min_consistent_views;
+    });
+  });
+  for (size_t v = 0; v < views->size(); ++v) {
+    DepthMap& map = (*views)[v].map;
+    for (size_t i = 0; i < map.depth.size(); ++i)
+      if (!keep[v][i]) map.depth[i] = 0;
+  }
+}
+
+PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
+                         DenseVisibility* visibility) {
+  std::vector<ViewGeometry> geometry;
+  for (const FusionView& v : views) geometry.emplace_back(v);
+  std::vector<std::vector<uint8_t>> fused(views.size());
+  for (size_t v = 0; v < views.size(); ++v) fused[v].assign(views[v].map.depth.size(), 0);
+  const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180.0);
+  PointCloud cloud;
+  if (visibility) visibility->clear();
+  const auto world_normal = [&](size_t v, size_t i) {
+    return geometry[v].R.transpose() * views[v].map.normal[i].cast<double>();
+  };
+  const auto color_at = [&](size_t v, size_t i) {
+    const cv::Vec3b c = views[v].color.at<cv::Vec3b>(static_cast<int>(i));
+    return Eigen::Vector3d(c[2], c[1], c[0]);  // BGR -> RGB
+  };
+  for (size_t v = 0; v < views.size(); ++v) {
+    const DepthMap& map = views[v].map;
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const size_t i = map.Index(x, y);
+        if (map.depth[i] <= 0 || fused[v][i]) continue;
+        const Eigen::Vector3d X = geometry[v].Unproject(x, y, map.depth[i]);
+        const Eigen::Vector3d normal = world_normal(v, i);
+        Eigen::Vector3d sum_x = X, sum_n = normal, sum_c = color_at(v, i);
+        std::vector<image_t> seen_by = {views[v].image_id};
+        std::vector<std::pair<size_t, size_t>> members = {{v, i}};
+        for (size_t u = 0; u < views.size(); ++u) {
+          if (u == v) continue;
+          Eigen::Vector2d q;
+          double depth_u;
+          if (!geometry[u].Project(X, &q, &depth_u)) continue;
+          const size_t j = PixelIndex(geometry[u], q);
+          const float d = views[u].map.depth[j];
+          if (d <= 0 || fused[u][j]) continue;
+          if (std::abs(d - depth_u) > options.max_depth_difference * depth_u) continue;
+          const Eigen::Vector3d n = world_normal(u, j);
+          if (n.dot(normal) < min_cos) continue;
+          members.push_back({u, j});
+          sum_x += geometry[u].Unproject(static_cast<int>(q.x()), static_cast<int>(q.y()), d);
+          sum_n += n;
+          sum_c += color_at(u, j);
+          seen_by.push_back(views[u].image_id);
+        }
+        // A pixel of a point too few views agree on stays free to join a later point.
+        if (seen_by.size() < static_cast<size_t>(options.min_fused_views)) continue;
+        for (const auto& [view, pixel] : members) fused[view][pixel] = 1;
+        const double count = static_cast<double>(seen_by.size());
+        cloud.points.push_back(sum_x / count);
+        cloud.normals.push_back(sum_n.normalized());
+        const Eigen::Vector3d c = sum_c / count;
+        cloud.colors.push_back({static_cast<uint8_t>(std::lround(c.x())),
+                                static_cast<uint8_t>(std::lround(c.y())),
+                                static_cast<uint8_t>(std::lround(c.z()))});
+        if (visibility) {
+          std::sort(seen_by.begin(), seen_by.end());
+          visibility->push_back(std::move(seen_by));
+        }
+      }
+  }
+  return cloud;
+}
+
+void DepthFusionOptions::Check() const {
+  CheckGreaterThan("fusion max_reprojection_error", max_reprojection_error, 0);
+  CheckGreaterThan("fusion max_depth_difference", max_depth_difference, 0);
+  CheckInRange("fusion max_normal_angle_deg", max_normal_angle_deg, 0.0, 180.0);
+  CheckInRange("--dense-min-consistent", min_consistent_views, 0, 64);
+  CheckInRange("--dense-min-views", min_fused_views, 1, 64);
+}
+
+}  // namespace varsfm

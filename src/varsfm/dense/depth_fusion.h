@@ -1,0 +1,56 @@
+#pragma once
+// From per-view depth maps to one point cloud: a geometric-consistency filter (a depth is kept
+// when enough other views' depth maps, followed forward to their pixel and back, land on the
+// same pixel at the same depth: Schoenberger et al. 2016, section 4.2's forward-backward
+// reprojection), then fusion (as COLMAP's StereoFusion does): each pixel not yet fused starts a
+// point, the pixels of the other views where that point projects join it when their depth and
+// normal agree, and the point is kept when enough views joined. Each fused point carries the
+// images that see it (its visibility), which a visibility-based surface needs.
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "varsfm/dense/patchmatch.h"
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/util/types.h"
+
+namespace varsfm {
+
+// Per fused point, the ids of the images that see it (ascending); io/point_visibility.h writes
+// it beside the cloud.
+using DenseVisibility = std::vector<std::vector<image_t>>;
+
+struct DepthFusionOptions {
+  double max_reprojection_error = 1.0;  // px, forward-backward
+  double max_depth_difference = 0.01;   // relative
+  // Fusion only. Wider than COLMAP's 10 deg: a pixel's normal is fitted to a window a few
+  // pixels wide and varies by about 10 deg on a plane (tests/dense/patchmatch_test.cc).
+  double max_normal_angle_deg = 30.0;
+  int min_consistent_views = 2;  // other views agreeing with a depth for it to stay
+  int min_fused_views = 3;       // views (the starting one included) a point needs
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+// A view's depth map with what fusion needs to place and colour it.
+struct FusionView {
+  image_t image_id = kInvalidImageId;
+  Eigen::Matrix3d K;  // of the depth map's pixels
+  Rigid3d cam_from_world;
+  cv::Mat color;  // BGR 8-bit, the depth map's size
+  DepthMap map;
+};
+
+// Drops (depth 0) every depth that fewer than min_consistent_views other views confirm. Parallel
+// over views; every view's result is computed before any map changes, so it is deterministic.
+void FilterByGeometricConsistency(std::vector<FusionView>* views,
+                                  const DepthFusionOptions& options);
+
+// Fuses the depth maps in view order and row-major pixel order (deterministic). Normals are the
+// members' mean (unit, world frame), colours their mean (RGB). `visibility`, when given, gets one
+// entry per point.
+PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
+                         DenseVisibility* visibility = nullptr);
+
+}  // namespace varsfm

@@ -1,0 +1,200 @@
+#include "varsfm/dense/multi_view_stereo.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include <tbb/parallel_for.h>
+
+#include "varsfm/dense/undistorted_view.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
+#include "varsfm/util/timer.h"
+
+namespace varsfm {
+namespace {
+
+struct LoadedView {
+  UndistortedView image;
+  PatchMatchView patchmatch;
+};
+
+// Writes the depth (and, when given, the camera-frame normal) of each point into the pixel it
+// projects to, where it is nearer than what the pixel holds.
+void SplatPoints(const std::vector<Eigen::Vector3d>& points,
+                 const std::vector<Eigen::Vector3d>* normals, const Eigen::Matrix3d& K,
+                 const Rigid3d& cam_from_world, DepthMap* map) {
+  const Eigen::Matrix3d R = cam_from_world.R();
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d camera = cam_from_world * points[i];
+    if (camera.z() <= 0) continue;
+    const Eigen::Vector2d x = (K * camera).hnormalized();
+    if (!(x.x() >= 0 && x.y() >= 0 && x.x() < map->width && x.y() < map->height)) continue;
+    const size_t j = map->Index(static_cast<int>(x.x()), static_cast<int>(x.y()));
+    const float depth = static_cast<float>(camera.z());
+    if (map->depth[j] > 0 && map->depth[j] <= depth) continue;
+    map->depth[j] = depth;
+    map->normal[j] =
+        normals ? Eigen::Vector3f((R * (*normals)[i]).cast<float>()) : Eigen::Vector3f::Zero();
+  }
+}
+
+// The starting depths of a view: the sparse points it observes, then the prior cloud's points
+// where nearer.
+DepthMap PriorDepths(const Reconstruction& rec, image_t image_id, const LoadedView& view,
+                     const PointCloud* prior) {
+  DepthMap map;
+  map.width = view.patchmatch.gray.cols;
+  map.height = view.patchmatch.gray.rows;
+  map.depth.assign(static_cast<size_t>(map.width) * map.height, 0);
+  map.normal.assign(map.depth.size(), Eigen::Vector3f::Zero());
+  std::vector<Eigen::Vector3d> sparse;
+  for (const Point2D& p : rec.image(image_id).points2D)
+    if (p.HasPoint3D() && rec.ExistsPoint3D(p.point3D_id))
+      sparse.push_back(rec.point3D(p.point3D_id).xyz);
+  const Rigid3d& pose = view.patchmatch.cam_from_world;
+  SplatPoints(sparse, nullptr, view.patchmatch.K, pose, &map);
+  if (prior)
+    SplatPoints(prior->points, prior->HasNormals() ? &prior->normals : nullptr, view.patchmatch.K,
+                pose, &map);
+  return map;
+}
+
+// Drops the depths where a covering point projects at or in front of them (5 % slack): those
+// pixels are already on the surface the covering cloud stands for. A covering point behind the
+// depth map's surface is occluded there and leaves the pixel to PatchMatch.
+void LeaveCovered(const PointCloud& covered, FusionView* view) {
+  DepthMap nearest;
+  nearest.width = view->map.width;
+  nearest.height = view->map.height;
+  nearest.depth.assign(view->map.depth.size(), 0);
+  nearest.normal.assign(view->map.depth.size(), Eigen::Vector3f::Zero());
+  SplatPoints(covered.points, nullptr, view->K, view->cam_from_world, &nearest);
+  std::vector<float>& depth = view->map.depth;
+  const DepthMap& map = view->map;
+  std::vector<uint8_t> drop(depth.size(), 0);
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const float d = depth[map.Index(x, y)];
+      if (d <= 0) continue;
+      // The covering points are sparser than the pixels: a 3x3 neighbourhood.
+      for (int dy = -1; dy <= 1 && !drop[map.Index(x, y)]; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= map.width || ny >= map.height) continue;
+          const float c = nearest.depth[map.Index(nx, ny)];
+          if (c > 0 && c <= 1.05f * d) {
+            drop[map.Index(x, y)] = 1;
+            break;
+          }
+        }
+    }
+  for (size_t i = 0; i < depth.size(); ++i)
+    if (drop[i]) depth[i] = 0;
+}
+
+size_t CountDepths(const std::vector<FusionView>& views) {
+  size_t n = 0;
+  for (const FusionView& v : views)
+    n += static_cast<size_t>(
+        std::count_if(v.map.depth.begin(), v.map.depth.end(), [](float d) { return d > 0; }));
+  return n;
+}
+
+}  // namespace
+
+PointCloud MultiViewStereo(const Reconstruction& rec,
+                           const std::function<cv::Mat(image_t)>& load_image,
+                           const MultiViewStereoOptions& options,
+                           const MultiViewStereoInputs& inputs, DenseVisibility* visibility,
+                           MultiViewStereoStats* stats) {
+  MultiViewStereoStats local;
+  MultiViewStereoStats& st = stats ? *stats : local;
+  st = {};
+  const auto sources = SelectSourceViews(rec, options.sources);
+  std::vector<image_t> references;
+  std::map<image_t, DepthRange> ranges;
+  for (const auto& [id, list] : sources) {
+    const DepthRange range = SparseDepthRange(rec, id);
+    if (range.max_depth > range.min_depth && range.min_depth > 0)
+      references.push_back(id), ranges[id] = range;
+  }
+  if (references.empty())
+    Fail("densify: no registered view shares {} points with another (multi-view stereo)",
+         options.sources.min_shared_points);
+  std::set<image_t> used(references.begin(), references.end());
+  for (image_t id : references) used.insert(sources.at(id).begin(), sources.at(id).end());
+  const std::vector<image_t> ids(used.begin(), used.end());
+  std::map<image_t, uint32_t> index;
+  for (size_t i = 0; i < ids.size(); ++i) index[ids[i]] = static_cast<uint32_t>(i);
+
+  Timer timer;
+  std::vector<LoadedView> views(ids.size());
+  tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
+    const Camera& camera = rec.CameraOf(ids[i]);
+    const double scale = std::min(
+        1.0, static_cast<double>(options.max_image_size) / std::max(camera.width, camera.height));
+    LoadedView& v = views[i];
+    v.image = UndistortImage(load_image(ids[i]), camera, scale);
+    v.image.gray.convertTo(v.patchmatch.gray, CV_32F, 1.0 / 255.0);
+    v.patchmatch.K = v.image.K;
+    v.patchmatch.cam_from_world = rec.image(ids[i]).cam_from_world;
+  });
+  std::vector<PatchMatchView> patchmatch_views;
+  for (const LoadedView& v : views) patchmatch_views.push_back(v.patchmatch);
+  st.seconds_undistort = timer.Seconds();
+  timer.Restart();
+
+  std::vector<FusionView> fusion(references.size());
+  {
+    Progress progress("patchmatch", references.size());
+    tbb::parallel_for(size_t{0}, references.size(), [&](size_t r) {
+      const image_t id = references[r];
+      const LoadedView& view = views[index.at(id)];
+      PatchMatchInit init;
+      init.min_depth = static_cast<float>(ranges.at(id).min_depth);
+      init.max_depth = static_cast<float>(ranges.at(id).max_depth);
+      init.prior = PriorDepths(rec, id, view, inputs.prior);
+      std::vector<uint32_t> source_indices;
+      for (image_t s : sources.at(id)) source_indices.push_back(index.at(s));
+      FusionView& f = fusion[r];
+      f.map = EstimateDepthMap(patchmatch_views, index.at(id), source_indices, init,
+                               options.patchmatch, DeriveSeed(options.seed, id));
+      f.image_id = id;
+      f.K = view.patchmatch.K;
+      f.cam_from_world = view.patchmatch.cam_from_world;
+      f.color = view.image.color;
+      progress.Tick();
+    });
+  }
+  st.num_views = references.size();
+  st.num_depths = CountDepths(fusion);
+  st.seconds_patchmatch = timer.Seconds();
+  timer.Restart();
+
+  FilterByGeometricConsistency(&fusion, options.fusion);
+  st.num_consistent = CountDepths(fusion);
+  if (inputs.covered)
+    tbb::parallel_for(size_t{0}, fusion.size(),
+                      [&](size_t r) { LeaveCovered(*inputs.covered, &fusion[r]); });
+  PointCloud cloud = FuseDepthMaps(fusion, options.fusion, visibility);
+  st.num_points = cloud.points.size();
+  st.seconds_fusion = timer.Seconds();
+  info(
+      "multi-view stereo: {} depth maps, {} depths, {} consistent, {} fused points (undistort "
+      "{:.1f} s, patchmatch {:.1f} s, fusion {:.1f} s)",
+      st.num_views, st.num_depths, st.num_consistent, st.num_points, st.seconds_undistort,
+      st.seconds_patchmatch, st.seconds_fusion);
+  return cloud;
+}
+
+void MultiViewStereoOptions::Check() const {
+  CheckAtLeast("--dense-max-image-size", max_image_size, 16);
+  sources.Check();
+  patchmatch.Check();
+  fusion.Check();
+}
+
+}  // namespace varsfm

@@ -1,0 +1,60 @@
+#pragma once
+// Multi-view stereo by depth maps: every registered view that has source views (source_views.h)
+// gets a PatchMatch depth and normal map (patchmatch.h) at a capped resolution, started from the
+// sparse points it observes and, optionally, a prior point cloud (match propagation's); the maps
+// are filtered by geometric consistency and fused into a point cloud with normals and visibility
+// (depth_fusion.h).
+#include <functional>
+
+#include <opencv2/core.hpp>
+
+#include "varsfm/dense/depth_fusion.h"
+#include "varsfm/dense/patchmatch.h"
+#include "varsfm/dense/source_views.h"
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/scene/reconstruction.h"
+#include "varsfm/util/random.h"
+
+namespace varsfm {
+
+struct MultiViewStereoOptions {
+  // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
+  int max_image_size = 800;
+  SourceViewOptions sources;
+  PatchMatchOptions patchmatch;
+  DepthFusionOptions fusion;
+  uint64_t seed = kDefaultSeed;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+struct MultiViewStereoStats {
+  size_t num_views = 0;       // reference views with a depth map
+  size_t num_depths = 0;      // pixels with a photometrically valid depth, all views
+  size_t num_consistent = 0;  // of which geometrically consistent
+  size_t num_points = 0;      // fused
+  double seconds_undistort = 0;
+  double seconds_patchmatch = 0;
+  double seconds_fusion = 0;
+};
+
+// What else the depth maps start from or leave alone.
+struct MultiViewStereoInputs {
+  // Points (with normals, if any) whose depth starts PatchMatch at the pixels they project to in
+  // each view, nearest first; the sparse points a view observes always do.
+  const PointCloud* prior = nullptr;
+  // Points that already stand for the surface: a pixel where one of them projects at or in front
+  // of the depth map's depth is left out of fusion (PatchMatch fills where they stop).
+  const PointCloud* covered = nullptr;
+};
+
+// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). Throws
+// varsfm::Error when no registered view has a source view.
+PointCloud MultiViewStereo(const Reconstruction& reconstruction,
+                           const std::function<cv::Mat(image_t)>& load_image,
+                           const MultiViewStereoOptions& options,
+                           const MultiViewStereoInputs& inputs = {},
+                           DenseVisibility* visibility = nullptr,
+                           MultiViewStereoStats* stats = nullptr);
+
+}  // namespace varsfm

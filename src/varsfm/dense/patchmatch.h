@@ -1,0 +1,70 @@
+#pragma once
+// PatchMatch multi-view stereo for one reference view: every pixel carries a plane hypothesis
+// (depth along the optical axis and a normal, in the reference camera's frame) whose cost is the
+// bilateral-weighted NCC of the reference window against its homography warp into the source
+// views (Bleyer et al., "PatchMatch Stereo", BMVC 2011; multi-view form of Schoenberger et al.,
+// "Pixelwise View Selection for Unstructured Multi-View Stereo", ECCV 2016). The views' costs are
+// aggregated as the mean of the best few (the views that see the point unoccluded agree; the
+// others do not), as Xu & Tao's ACMH does. Hypotheses spread by checkerboard propagation
+// (Galliani et al., "Massively Parallel Multiview Stereopsis by Surface Normal Diffusion", ICCV
+// 2015): the red pixels are updated from black neighbours, then the black from red, so every
+// update of a half-sweep reads only pixels that half-sweep does not write. With a random number
+// generator per pixel and sweep the result is the same bits at any thread count.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "varsfm/geometry/rigid3.h"
+
+namespace varsfm {
+
+struct PatchMatchOptions {
+  int window_radius = 5;  // NCC window (2 r + 1)^2, sampled every `window_step` pixels
+  int window_step = 2;
+  // Bilateral weights exp(-dI^2 / 2 sigma_color^2 - dx^2 / 2 sigma_spatial^2) (Yoon & Kweon
+  // 2006), intensities in [0, 1]: pixels of the window unlike the centre count less, so windows
+  // across depth edges are matched by their centre's side.
+  double sigma_color = 0.2;
+  double sigma_spatial = 3.0;
+  int num_iterations = 4;          // red + black sweeps
+  int num_best_views = 2;          // the cost is the mean of this many lowest per-view costs
+  double max_cost = 0.6;           // 1 - NCC above which a pixel's depth is dropped at the end
+  double min_ncc_variance = 1e-5;  // reference windows flatter than this get no depth
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+// An undistorted view: intensities in [0, 1] (CV_32F), its pinhole K and pose.
+struct PatchMatchView {
+  cv::Mat gray;
+  Eigen::Matrix3d K;
+  Rigid3d cam_from_world;
+};
+
+// Per-pixel depth (along the optical axis; 0: none) and unit normal in the camera frame, and the
+// photometric cost of the final hypothesis. Row-major, width x height.
+struct DepthMap {
+  int width = 0, height = 0;
+  std::vector<float> depth;
+  std::vector<Eigen::Vector3f> normal;
+  std::vector<float> cost;
+
+  size_t Index(int x, int y) const { return static_cast<size_t>(y) * width + x; }
+};
+
+// The depth range searched and, optionally, prior depths and normals (depth 0 where none) that
+// replace the random initial hypothesis where given (sparse points, match propagation).
+struct PatchMatchInit {
+  float min_depth = 0, max_depth = 0;
+  DepthMap prior;  // empty, or the reference view's size
+};
+
+// The depth map of views[reference] against views[s] for s in `sources`. `seed` fixes every
+// random draw (with the pixel and sweep). Parallel over rows (TBB).
+DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
+                          const std::vector<uint32_t>& sources, const PatchMatchInit& init,
+                          const PatchMatchOptions& options, uint64_t seed);
+
+}  // namespace varsfm

@@ -1,0 +1,37 @@
+#pragma once
+// The source views of each reference view for multi-view stereo, chosen from the sparse model as
+// Goesele et al. ("Multi-View Stereo for Community Photo Collections", ICCV 2007, section 4.1)
+// choose them: every 3D point both views see adds w_angle * w_scale to the pair's score, where
+// w_angle = min(angle / good_angle, 1)^2 favours wide triangulation angles up to good_angle and
+// w_scale favours views that see the point at about the reference's resolution. And the depth
+// range PatchMatch searches, from the sparse points a view sees.
+#include <map>
+#include <vector>
+
+#include "varsfm/scene/reconstruction.h"
+
+namespace varsfm {
+
+struct SourceViewOptions {
+  int num_source_views = 4;
+  int min_shared_points = 15;    // fewer: not a source
+  double min_angle_deg = 1.0;    // points below this angle add nothing (no depth information)
+  double good_angle_deg = 10.0;  // the angle from which w_angle is 1
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+// For each registered image (the keys), its best source views, best first; images with none are
+// left out.
+std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& reconstruction,
+                                                          const SourceViewOptions& options);
+
+struct DepthRange {
+  double min_depth = 0, max_depth = 0;  // 0, 0: the image sees no point in front of it
+};
+
+// The 1st to 99th percentile of the depths of the sparse points the image observes, widened by a
+// quarter at each end (surfaces beyond the sparse points, e.g. a ground plane running out).
+DepthRange SparseDepthRange(const Reconstruction& reconstruction, image_t image_id);
+
+}  // namespace varsfm

@@ -1,0 +1,205 @@
+#include "varsfm/dense/patchmatch.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "dense/rendered_scene_truth.h"
+#include "varsfm/dense/densify.h"
+#include "varsfm/dense/multi_view_stereo.h"
+#include "varsfm/dense/source_views.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
+
+namespace varsfm {
+namespace {
+
+using testing::Hit;
+using testing::PlaneDistance;
+using testing::SceneQuads;
+using testing::SparseModel;
+
+double Median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+double Percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(p * (v.size() - 1))];
+}
+
+// The room corner and boxes seen by five 240x180 views 12.5 deg apart (no lens distortion, so
+// the photos are pinhole images).
+RenderedScene SmallScene() {
+  RenderedSceneOptions options;
+  options.num_images = 5;
+  options.width = 240;
+  options.height = 180;
+  options.focal_start = 192;  // the default 640 at 800 px, scaled to 240 px
+  options.arc_degrees = 50;
+  return RenderSyntheticScene(options);
+}
+
+TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
+  const RenderedScene scene = SmallScene();
+  const std::vector<testing::Quad> quads = SceneQuads();
+  const Reconstruction rec = SparseModel(scene, quads);
+  std::vector<PatchMatchView> views;
+  for (size_t i = 0; i < scene.images.size(); ++i) {
+    PatchMatchView v;
+    cv::Mat gray;
+    cv::cvtColor(scene.images[i], gray, cv::COLOR_BGR2GRAY);
+    gray.convertTo(v.gray, CV_32F, 1.0 / 255);
+    v.K = scene.cameras[i].K();
+    v.cam_from_world = scene.poses[i];
+    views.push_back(v);
+  }
+  const uint32_t reference = 2;
+  const DepthRange range = SparseDepthRange(rec, reference + 1);
+  ASSERT_GT(range.max_depth, range.min_depth);
+  PatchMatchInit init;
+  init.min_depth = static_cast<float>(range.min_depth);
+  init.max_depth = static_cast<float>(range.max_depth);
+  const DepthMap map = EstimateDepthMap(views, reference, {0, 1, 3, 4}, init, {}, 7);
+
+  const Eigen::Matrix3d K_inv = views[reference].K.inverse();
+  const Rigid3d& pose = views[reference].cam_from_world;
+  const Eigen::Vector3d centre = pose.Center();
+  std::vector<double> depth_errors, normal_errors;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const size_t i = map.Index(x, y);
+      if (map.depth[i] <= 0) continue;
+      // The camera-frame ray with z = 1 in world coordinates: the hit distance is the depth.
+      const Eigen::Vector3d ray = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1);
+      int face = -1;
+      const double truth = Hit(quads, centre, pose.R().transpose() * ray, &face);
+      ASSERT_TRUE(std::isfinite(truth));
+      depth_errors.push_back(std::abs(map.depth[i] - truth) / truth);
+      const testing::Quad& q = quads[face];
+      const Eigen::Vector3d n = pose.R() * q.u.cross(q.v).normalized();
+      normal_errors.push_back(
+          std::acos(std::min(1.0, std::abs(n.dot(map.normal[i].cast<double>())))) * 180 / M_PI);
+    }
+  // The views see most of the reference; flat or occluded pixels get no depth.
+  EXPECT_GT(depth_errors.size(), map.depth.size() * 7 / 10);
+  EXPECT_LT(Median(depth_errors), 0.005);
+  EXPECT_LT(Percentile(depth_errors, 0.8), 0.02);
+  // Each normal is fitted to a window 9 pixels wide (measured: median 12 deg).
+  EXPECT_LT(Median(normal_errors), 15.0);
+}
+
+DensifyOptions PatchMatchOptionsFor(DenseMethod method) {
+  DensifyOptions options;
+  options.method = method;
+  options.mvs.max_image_size = 240;
+  options.mvs.patchmatch.num_iterations = 3;
+  return options;
+}
+
+TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
+  const RenderedScene scene = SmallScene();
+  const std::vector<testing::Quad> quads = SceneQuads();
+  const Reconstruction rec = SparseModel(scene, quads);
+  DenseVisibility visibility;
+  DensifyStats stats;
+  const PointCloud cloud = Densify(
+      rec, [&](image_t id) { return scene.images[id - 1]; },
+      PatchMatchOptionsFor(DenseMethod::kPatchMatch), &stats, &visibility);
+  EXPECT_EQ(stats.mvs.num_views, 5u);
+  ASSERT_GT(cloud.points.size(), 10000u);
+  ASSERT_EQ(cloud.normals.size(), cloud.points.size());
+  ASSERT_EQ(cloud.colors.size(), cloud.points.size());
+  ASSERT_EQ(visibility.size(), cloud.points.size());
+  std::vector<double> distances, normal_errors;
+  size_t unseen = 0, observations = 0;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const Eigen::Vector3d& X = cloud.points[i];
+    Eigen::Vector3d n;
+    distances.push_back(PlaneDistance(quads, X, &n));
+    normal_errors.push_back(std::acos(std::min(1.0, std::abs(n.dot(cloud.normals[i])))) * 180 /
+                            M_PI);
+    ASSERT_GE(visibility[i].size(), 3u);  // the default min_fused_views
+    ASSERT_TRUE(std::is_sorted(visibility[i].begin(), visibility[i].end()));
+    // Each image said to see the point sees it: the first surface along its ray is the point's.
+    for (image_t id : visibility[i]) {
+      const Eigen::Vector3d c = scene.poses[id - 1].Center();
+      ++observations;
+      if (std::abs(Hit(quads, c, X - c) - 1) > 0.02) ++unseen;
+    }
+  }
+  // A depth-map pixel spans about 0.027 scene units at the back wall.
+  EXPECT_LT(Median(distances), 0.005);
+  EXPECT_LT(Percentile(distances, 0.9), 0.03);
+  EXPECT_LT(Median(normal_errors), 10.0);
+  EXPECT_LT(unseen, observations / 100);
+}
+
+TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
+  const RenderedScene scene = SmallScene();
+  const Reconstruction rec = SparseModel(scene, SceneQuads());
+  const auto run = [&](int threads) {
+    DensifyOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+    options.mvs.max_image_size = 160;
+    options.mvs.patchmatch.num_iterations = 2;
+    options.num_threads = threads;
+    DenseVisibility visibility;
+    PointCloud cloud = Densify(
+        rec, [&](image_t id) { return scene.images[id - 1]; }, options, nullptr, &visibility);
+    return std::make_pair(cloud, visibility);
+  };
+  const auto [one, one_visibility] = run(1);
+  const auto [two, two_visibility] = run(2);
+  ASSERT_GT(one.points.size(), 1000u);
+  ASSERT_EQ(one.points.size(), two.points.size());
+  EXPECT_EQ(std::memcmp(one.points.data(), two.points.data(),
+                        one.points.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(std::memcmp(one.normals.data(), two.normals.data(),
+                        one.normals.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(one.colors, two.colors);
+  EXPECT_EQ(one_visibility, two_visibility);
+}
+
+TEST(MultiViewStereo, FillKeepsPropagationAndAddsWherePropagationStops) {
+  const RenderedScene scene = SmallScene();
+  const Reconstruction rec = SparseModel(scene, SceneQuads());
+  const auto load = [&](image_t id) { return scene.images[id - 1]; };
+  DenseVisibility propagation_visibility, fill_visibility;
+  DensifyStats stats;
+  const PointCloud propagation = Densify(rec, load, PatchMatchOptionsFor(DenseMethod::kPropagation),
+                                         nullptr, &propagation_visibility);
+  const PointCloud fill =
+      Densify(rec, load, PatchMatchOptionsFor(DenseMethod::kFill), &stats, &fill_visibility);
+  ASSERT_EQ(propagation_visibility.size(), propagation.points.size());
+  ASSERT_EQ(fill_visibility.size(), fill.points.size());
+  ASSERT_GT(fill.points.size(), propagation.points.size());
+  EXPECT_TRUE(
+      std::equal(propagation.points.begin(), propagation.points.end(), fill.points.begin()));
+  EXPECT_EQ(fill.points.size() - propagation.points.size(), stats.mvs.num_points);
+  EXPECT_GT(stats.mvs.num_points, 0u);
+}
+
+TEST(MultiViewStereo, OptionsAreChecked) {
+  DensifyOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+  EXPECT_NO_THROW(options.Check());
+  options.mvs.max_image_size = 8;
+  EXPECT_THROW(options.Check(), OptionError);
+  options = PatchMatchOptionsFor(DenseMethod::kSeeded);
+  options.mvs.sources.num_source_views = 0;
+  EXPECT_THROW(options.Check(), OptionError);
+  options = PatchMatchOptionsFor(DenseMethod::kFill);
+  options.mvs.patchmatch.window_step = 0;
+  EXPECT_THROW(options.Check(), OptionError);
+  // Propagation alone does not look at the multi-view stereo settings.
+  options.method = DenseMethod::kPropagation;
+  EXPECT_NO_THROW(options.Check());
+}
+
+}  // namespace
+}  // namespace varsfm
