@@ -19,7 +19,7 @@ namespace varsfm {
 
 struct MultiViewStereoOptions {
   // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
-  int max_image_size = 800;
+  int max_image_size = 640;
   SourceViewOptions sources;
   PatchMatchOptions patchmatch;
   DepthFusionOptions fusion;
