@@ -435,17 +435,25 @@ void AddTextureCommand(CLI::App* app) {
   cmd->add_option("--smoothness", t.selection.smoothness,
                   "Potts weight grouping faces into charts (0: best image per face)")
       ->capture_default_str();
-  cmd->add_option("--depth-tolerance", t.selection.depth_tolerance,
+  cmd->add_option("--depth-tolerance", t.selection.observation.depth_tolerance,
                   "visibility: a face is occluded when the mesh is nearer by this fraction")
       ->capture_default_str();
-  cmd->add_option("--min-cos", t.selection.min_cos_angle,
+  cmd->add_option("--min-cos", t.selection.observation.min_cos_angle,
                   "faces seen more obliquely than acos(this) are not textured from a view")
       ->capture_default_str();
+  cmd->add_flag("!--no-photo-consistency", t.selection.consistency.enabled,
+                "keep views whose colour of a face disagrees with the other views'");
+  cmd->add_option("--consistency-bandwidth", t.selection.consistency.bandwidth,
+                  "photo-consistency: mean-shift bandwidth in grey levels")
+      ->capture_default_str();
+  cmd->add_flag("!--no-exposure-gain", t.selection.exposure.enabled,
+                "no per-photo exposure gains");
+  cmd->add_flag("!--no-levelling", t.levelling.enabled, "no colour levelling across seams");
   cmd->add_option("--padding", t.padding, "photo pixels kept around each chart (0 to 64)")
       ->capture_default_str();
   cmd->add_option("--holdout", options->holdout,
                   "leave every N-th registered image (by name) out (0: none)");
-  cmd->add_option("--threads", t.selection.num_threads, "threads (0: all cores)")
+  cmd->add_option("--threads", t.selection.observation.num_threads, "threads (0: all cores)")
       ->capture_default_str();
   cmd->callback([options] { varsfm::RunTexture(*options); });
 }

@@ -120,13 +120,17 @@ TEST(OptionsCheck, Mesh) {
 
 TEST(OptionsCheck, Texture) {
   ExpectEachRejected<TextureCommandOptions>(
-      {}, {{"--smoothness", [](auto& o) { o.texture.selection.smoothness = kNan; }},
-           {"--depth-tolerance", [](auto& o) { o.texture.selection.depth_tolerance = 2; }},
-           {"--min-cos", [](auto& o) { o.texture.selection.min_cos_angle = -0.1; }},
-           {"--padding", [](auto& o) { o.texture.padding = 65; }},
-           {"--threads", [](auto& o) { o.texture.selection.num_threads = -1; }},
-           {"border_px", [](auto& o) { o.texture.selection.border_px = kInf; }},
-           {"max_page_size", [](auto& o) { o.texture.max_page_size = 0; }}});
+      {},
+      {{"--smoothness", [](auto& o) { o.texture.selection.smoothness = kNan; }},
+       {"--depth-tolerance", [](auto& o) { o.texture.selection.observation.depth_tolerance = 2; }},
+       {"--min-cos", [](auto& o) { o.texture.selection.observation.min_cos_angle = -0.1; }},
+       {"--padding", [](auto& o) { o.texture.padding = 65; }},
+       {"--threads", [](auto& o) { o.texture.selection.observation.num_threads = -1; }},
+       {"border_px", [](auto& o) { o.texture.selection.observation.border_px = kInf; }},
+       {"photo_consistency.bandwidth",
+        [](auto& o) { o.texture.selection.consistency.bandwidth = 0; }},
+       {"levelling.ridge", [](auto& o) { o.texture.levelling.ridge = kNan; }},
+       {"max_page_size", [](auto& o) { o.texture.max_page_size = 0; }}});
 }
 
 TEST(OptionsCheck, Render) {

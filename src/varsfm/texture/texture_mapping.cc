@@ -8,6 +8,8 @@
 
 #include "varsfm/texture/atlas.h"
 #include "varsfm/texture/atlas_fill.h"
+#include "varsfm/texture/chart_colour.h"
+#include "varsfm/texture/colour_levelling.h"
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/rasterizer.h"
 #include "varsfm/util/error.h"
@@ -65,8 +67,10 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   st.num_faces = mesh.faces.size();
   Timer timer;
 
-  const ViewSelection selection = SelectViews(mesh.vertices, mesh.faces, views, options.selection);
+  ViewSelection selection =
+      SelectViews(mesh.vertices, mesh.faces, views, load_image, options.selection);
   st.num_textured_faces = selection.num_visible_faces;
+  st.num_rejected_observations = selection.num_rejected_observations;
   for (const double c : selection.coverage) st.mean_coverage += c / views.size();
   if (st.mean_coverage < options.min_mean_coverage)
     Fail(
@@ -76,6 +80,12 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   std::vector<Chart> charts = GrowCharts(selection.labels, FaceNeighbours(mesh.faces));
   st.num_charts = charts.size();
   st.seconds_selection = timer.Seconds();
+  timer.Restart();
+  const std::vector<std::array<Eigen::Vector3f, 3>> corrections =
+      LevelColours(mesh.vertices, mesh.faces, selection.labels, views, selection.small_photos,
+                   selection.small_scale, selection.gains, options.levelling);
+  selection.small_photos.clear();  // only the levelling samples them
+  st.seconds_levelling = timer.Seconds();
   timer.Restart();
 
   // Vertex pixels in every view that textures a chart (full resolution, with distortion).
@@ -92,6 +102,10 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
     const Camera& camera = views[chart.view].camera;
     double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
     for (const int f : chart.faces) {
+      const Eigen::Vector2d& a = projected[chart.view][mesh.faces[f][0]].pixel;
+      const Eigen::Vector2d e1 = projected[chart.view][mesh.faces[f][1]].pixel - a;
+      const Eigen::Vector2d e2 = projected[chart.view][mesh.faces[f][2]].pixel - a;
+      st.face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
       for (int k = 0; k < 3; ++k) {
         const Eigen::Vector2d& p = projected[chart.view][mesh.faces[f][k]].pixel;
         min_x = std::min(min_x, p.x());
@@ -186,6 +200,15 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
                            chart.source.br().x - inside.br().x,
                            cv::BORDER_REPLICATE | cv::BORDER_ISOLATED);
       }
+      std::vector<std::array<Eigen::Vector2d, 3>> face_pixels(chart.faces.size());
+      std::vector<std::array<Eigen::Vector3f, 3>> face_corrections(chart.faces.size());
+      const Eigen::Vector2d corner(chart.source.x, chart.source.y);
+      for (size_t i = 0; i < chart.faces.size(); ++i) {
+        for (int k = 0; k < 3; ++k)
+          face_pixels[i][k] = projected[v][mesh.faces[chart.faces[i]][k]].pixel - corner;
+        face_corrections[i] = corrections[chart.faces[i]];
+      }
+      CorrectChartColours(face_pixels, face_corrections, selection.gains[v], pad + 1.0, &target);
       const Eigen::Vector2d shift(place.x - chart.source.x, place.y - chart.source.y);
       const Eigen::Vector2d inv_size(1.0 / page.cols, 1.0 / page.rows);
       texcoord_of_vertex.clear();
@@ -231,6 +254,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
 
 void TextureOptions::Check() const {
   selection.Check();
+  levelling.Check();
   CheckInRange("--padding", padding, 0, 64);
   CheckAtLeast("bleed_rings", bleed_rings, 0);
   CheckAtLeast("max_page_size", max_page_size, 64);

@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "varsfm/scene/triangle_mesh.h"
+#include "varsfm/texture/colour_levelling.h"
 #include "varsfm/texture/textured_mesh.h"
 #include "varsfm/texture/view_selection.h"
 
@@ -20,6 +21,7 @@ namespace varsfm {
 
 struct TextureOptions {
   ViewSelectionOptions selection;
+  ColourLevellingOptions levelling;
   // Photo pixels kept around each chart so bilinear lookups (and mip-maps in viewers) at a
   // chart's edge read the photo, not the black atlas background: this is what hides seams.
   int padding = 3;
@@ -39,11 +41,14 @@ struct TextureOptions {
 struct TextureStats {
   size_t num_faces = 0;
   size_t num_textured_faces = 0;
+  size_t num_rejected_observations = 0;  // (view, face) pairs failing photo-consistency
   size_t num_charts = 0;
   size_t num_pages = 0;
   size_t atlas_pixels = 0;
+  double face_texels = 0;  // atlas texels inside textured faces (the rest is padding and waste)
   double mean_coverage = 0;  // the mean over the views of the fraction of pixels the mesh covers
   double seconds_selection = 0;
+  double seconds_levelling = 0;
   double seconds_atlas = 0;
 };
 

@@ -1,0 +1,128 @@
+#include "varsfm/texture/alpha_expansion.h"
+
+#include <cmath>
+
+// Boost.Graph's edge iterators (boost::optional inside) trip GCC's -Wmaybe-uninitialized, a
+// known false positive in headers we do not own.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
+
+namespace varsfm {
+namespace {
+
+using Traits = boost::adjacency_list_traits<boost::vecS, boost::vecS, boost::directedS>;
+using Graph = boost::adjacency_list<
+    boost::vecS, boost::vecS, boost::directedS,
+    boost::property<boost::vertex_index_t, long,
+                    boost::property<boost::vertex_color_t, boost::default_color_type,
+                                    boost::property<boost::vertex_distance_t, long,
+                                                    boost::property<boost::vertex_predecessor_t,
+                                                                    Traits::edge_descriptor>>>>,
+    boost::property<
+        boost::edge_capacity_t, double,
+        boost::property<boost::edge_residual_capacity_t, double,
+                        boost::property<boost::edge_reverse_t, Traits::edge_descriptor>>>>;
+
+// Adds u -> v with `capacity` and its reverse edge of capacity 0, as the max-flow requires.
+void AddEdge(Graph& g, size_t u, size_t v, double capacity) {
+  auto capacity_map = boost::get(boost::edge_capacity, g);
+  auto reverse_map = boost::get(boost::edge_reverse, g);
+  const auto forward = boost::add_edge(u, v, g).first;
+  const auto backward = boost::add_edge(v, u, g).first;
+  capacity_map[forward] = capacity;
+  capacity_map[backward] = 0;
+  reverse_map[forward] = backward;
+  reverse_map[backward] = forward;
+}
+
+// One alpha-expansion move. Binary variable x_n per movable node: 0 keeps its label, 1 takes
+// alpha. A pairwise term E(x_p, x_q) with values A = E(0,0), B = E(0,1), C = E(1,0), D = E(1,1)
+// is A + (C - A) x_p + (D - C) x_q + (B + C - A - D)(1 - x_p) x_q (Kolmogorov & Zabih, sec. 4):
+// two unary terms and one edge p -> q, cut when p stays on the source side (x_p = 0) and q goes
+// to the sink side (x_q = 1). Returns whether any node changed.
+bool ExpandOne(const PottsProblem& problem, int alpha, std::vector<int>* labels_in_out) {
+  std::vector<int>& labels = *labels_in_out;
+  const size_t n = problem.num_nodes();
+  std::vector<long> vertex_of(n, -1);
+  std::vector<size_t> movable;
+  for (size_t i = 0; i < n; ++i) {
+    if (labels[i] >= 0 && labels[i] != alpha && problem.Cost(i, alpha) >= 0) {
+      vertex_of[i] = static_cast<long>(movable.size());
+      movable.push_back(i);
+    }
+  }
+  if (movable.empty()) return false;
+  const double w = problem.potts;
+  Graph g(movable.size() + 2);
+  const size_t source = movable.size(), sink = movable.size() + 1;
+  std::vector<double> cost_keep(movable.size()), cost_alpha(movable.size());
+  for (size_t k = 0; k < movable.size(); ++k) {
+    const size_t i = movable[k];
+    cost_keep[k] += problem.Cost(i, labels[i]);
+    cost_alpha[k] += problem.Cost(i, alpha);
+    for (const int j : problem.neighbours[i]) {
+      if (j < 0 || labels[j] < 0) continue;
+      if (vertex_of[j] < 0) {  // fixed neighbour: a unary term
+        cost_keep[k] += labels[j] != labels[i] ? w : 0;
+        cost_alpha[k] += labels[j] != alpha ? w : 0;
+      } else if (static_cast<size_t>(j) > i) {  // each movable pair once
+        const double a = labels[i] != labels[j] ? w : 0, b = w, c = w, d = 0;
+        cost_alpha[k] += c - a;
+        cost_alpha[vertex_of[j]] += d - c;
+        AddEdge(g, k, vertex_of[j], b + c - a - d);
+      }
+    }
+  }
+  for (size_t k = 0; k < movable.size(); ++k) {
+    const double diff = cost_alpha[k] - cost_keep[k];
+    if (diff > 0)
+      AddEdge(g, source, k, diff);  // cut when k takes alpha
+    else if (diff < 0)
+      AddEdge(g, k, sink, -diff);  // cut when k keeps its label
+  }
+  boost::boykov_kolmogorov_max_flow(g, source, sink);
+  // Black: the source side (vertices reachable from the source in the residual graph).
+  const auto colour = boost::get(boost::vertex_color, g);
+  bool changed = false;
+  for (size_t k = 0; k < movable.size(); ++k) {
+    if (colour[k] != boost::black_color) {
+      labels[movable[k]] = alpha;
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+}  // namespace
+
+float PottsProblem::Cost(size_t n, int label) const {
+  for (size_t c = offsets[n]; c < offsets[n + 1]; ++c)
+    if (candidate_labels[c] == label) return candidate_costs[c];
+  return -1.0f;
+}
+
+double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels) {
+  double energy = 0;
+  for (size_t i = 0; i < problem.num_nodes(); ++i) {
+    if (labels[i] < 0) continue;
+    energy += problem.Cost(i, labels[i]);
+    for (const int j : problem.neighbours[i])
+      if (j > static_cast<int>(i) && labels[j] >= 0 && labels[j] != labels[i])
+        energy += problem.potts;
+  }
+  return energy;
+}
+
+void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels) {
+  double energy = PottsEnergy(problem, *labels);
+  for (int cycle = 0; cycle < max_cycles; ++cycle) {
+    for (int alpha = 0; alpha < problem.num_labels; ++alpha) ExpandOne(problem, alpha, labels);
+    const double after = PottsEnergy(problem, *labels);
+    const bool converged = energy - after <= 1e-6 * std::abs(energy);
+    energy = after;
+    if (converged) break;
+  }
+}
+
+}  // namespace varsfm

@@ -1,0 +1,210 @@
+#include "varsfm/texture/face_observations.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <opencv2/imgproc.hpp>
+
+#include "varsfm/texture/rasterizer.h"
+#include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
+
+namespace varsfm {
+namespace {
+
+// Sums over the raster pixels each face covers: gradient magnitude, colour, pixel count.
+struct RasterSums {
+  std::vector<float> gradient;
+  std::vector<Eigen::Vector3f> colour;
+  std::vector<int> pixels;
+};
+
+RasterSums SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv::Mat& magnitude,
+                        size_t num_faces) {
+  RasterSums sums;
+  sums.gradient.assign(num_faces, 0.0f);
+  sums.colour.assign(num_faces, Eigen::Vector3f::Zero());
+  sums.pixels.assign(num_faces, 0);
+  for (int y = 0; y < raster.height; ++y) {
+    const cv::Vec3f* c = small.ptr<cv::Vec3f>(y);
+    const float* m = magnitude.ptr<float>(y);
+    for (int x = 0; x < raster.width; ++x) {
+      const int32_t f = raster.FaceAt(x, y);
+      if (f < 0) continue;
+      sums.gradient[f] += m[x];
+      sums.colour[f] += Eigen::Vector3f(c[x][0], c[x][1], c[x][2]);
+      ++sums.pixels[f];
+    }
+  }
+  return sums;
+}
+
+// Fills view v's quality and colour of every face (stride 1) and its coverage.
+void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
+                 const std::vector<Eigen::Vector3i>& faces, const TextureView& view,
+                 const cv::Mat& photo, const FaceObservationOptions& options, float* quality,
+                 Eigen::Vector3f* colour, double* coverage, cv::Mat* small_out, double* scale_out) {
+  const Camera& camera = view.camera;
+  const double scale = std::min(
+      1.0, options.max_raster_size / static_cast<double>(std::max(camera.width, camera.height)));
+  const int w = std::max(1, static_cast<int>(std::lround(camera.width * scale)));
+  const int h = std::max(1, static_cast<int>(std::lround(camera.height * scale)));
+  cv::Mat small8, small, grey, gx, gy, magnitude;
+  cv::resize(photo, small8, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+  small8.convertTo(small, CV_32FC3);
+  cv::cvtColor(small, grey, cv::COLOR_BGR2GRAY);
+  // Sobel's 3x3 kernel sums 4 differences over 2 pixels: /8 gives grey levels per pixel.
+  cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8);
+  cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8);
+  cv::magnitude(gx, gy, magnitude);
+  magnitude += options.gradient_floor;
+
+  const std::vector<ProjectedVertex> full = ProjectVertices(vertices, camera, view.cam_from_world);
+  std::vector<ProjectedVertex> projected = full;
+  for (ProjectedVertex& v : projected) v.pixel *= scale;
+  const FaceRaster raster = RasterizeFaces(projected, faces, w, h);
+  *coverage = static_cast<double>(std::count_if(raster.face.begin(), raster.face.end(),
+                                                [](int32_t f) { return f >= 0; })) /
+              raster.face.size();
+  const RasterSums sums = SumOverFaces(raster, small, magnitude, faces.size());
+  // A point passes the depth test when the nearest surface around its raster pixel (the farthest
+  // of a 3x3 neighbourhood, so points on an occluder's silhouette are not lost to rounding) is
+  // not clearly in front of it.
+  const auto unoccluded = [&](const Eigen::Vector2d& pixel, double depth) {
+    const int px = static_cast<int>(std::floor(pixel.x())),
+              py = static_cast<int>(std::floor(pixel.y()));
+    float farthest = 0;
+    for (int y = std::max(0, py - 1); y <= std::min(h - 1, py + 1); ++y)
+      for (int x = std::max(0, px - 1); x <= std::min(w - 1, px + 1); ++x)
+        farthest = std::max(farthest, raster.DepthAt(x, y));
+    return depth <= farthest * (1 + options.depth_tolerance);
+  };
+  const auto inside = [&](const Eigen::Vector2d& q) {
+    const double border = options.border_px;
+    return q.x() >= border && q.y() >= border && q.x() <= camera.width - border &&
+           q.y() <= camera.height - border;
+  };
+
+  const Eigen::Matrix3d R = view.cam_from_world.R();
+  const Eigen::Vector3d& t = view.cam_from_world.translation;
+  const Eigen::Vector3d centre = view.cam_from_world.Center();
+  for (size_t f = 0; f < faces.size(); ++f) {
+    quality[f] = 0;
+    colour[f].setZero();
+    const ProjectedVertex* p[3] = {&projected[faces[f][0]], &projected[faces[f][1]],
+                                   &projected[faces[f][2]]};
+    if (p[0]->depth <= 0 || p[1]->depth <= 0 || p[2]->depth <= 0) continue;
+    // A face cut by the image border can still be textured (its outside part gets the border
+    // pixels repeated), but any view that sees it whole is much preferred.
+    double weight = 1.0;
+    const Eigen::Vector2d* q[3] = {&full[faces[f][0]].pixel, &full[faces[f][1]].pixel,
+                                   &full[faces[f][2]].pixel};
+    if (!inside(*q[0]) || !inside(*q[1]) || !inside(*q[2])) {
+      if (!inside((*q[0] + *q[1] + *q[2]) / 3)) continue;
+      weight = options.partial_face_weight;
+    }
+    const Eigen::Vector3d& a = vertices[faces[f][0]];
+    const Eigen::Vector3d& b = vertices[faces[f][1]];
+    const Eigen::Vector3d& c = vertices[faces[f][2]];
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    const Eigen::Vector3d centroid = (a + b + c) / 3;
+    const Eigen::Vector3d to_camera = centre - centroid;
+    const double norms = normal.norm() * to_camera.norm();
+    if (norms <= 0 || std::abs(normal.dot(to_camera)) < options.min_cos_angle * norms) continue;
+    // Visible when its centroid and all three corners pass the depth test: a face partly hidden
+    // (say, behind the silhouette of a nearer object) would otherwise carry the occluder's colour.
+    const Eigen::Vector3d x = R * centroid + t;
+    const Eigen::Vector2d centroid_pixel = camera.Project(x) * scale;
+    bool visible = unoccluded(centroid_pixel, x.z());
+    for (int k = 0; k < 3 && visible; ++k) {
+      const Eigen::Vector2d& s = p[k]->pixel;
+      if (s.x() < 0 || s.y() < 0 || s.x() >= w || s.y() >= h) continue;  // cut by the border
+      visible = unoccluded(s, p[k]->depth);
+    }
+    if (!visible) continue;
+    // Waechter et al.: faces smaller than a pixel take the gradient and colour at their centroid
+    // times their area. Quality in full-resolution pixel units, so views of different sizes
+    // compare.
+    const Eigen::Vector2d e1 = p[1]->pixel - p[0]->pixel, e2 = p[2]->pixel - p[0]->pixel;
+    const double area = 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+    double gradient_sum;
+    if (sums.pixels[f] > 0) {
+      gradient_sum = sums.gradient[f];
+      colour[f] = sums.colour[f] / static_cast<float>(sums.pixels[f]);
+    } else {
+      const int cx = std::clamp(static_cast<int>(centroid_pixel.x()), 0, w - 1);
+      const int cy = std::clamp(static_cast<int>(centroid_pixel.y()), 0, h - 1);
+      gradient_sum = std::max(1.0, area) * magnitude.at<float>(cy, cx);
+      colour[f] = SampleBilinear(small, centroid_pixel);
+    }
+    quality[f] = static_cast<float>(weight * gradient_sum / (scale * scale));
+    if (quality[f] <= 0) quality[f] = std::numeric_limits<float>::min();
+  }
+  *small_out = small;
+  *scale_out = scale;
+}
+
+}  // namespace
+
+Eigen::Vector3f SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& p) {
+  const double x = std::clamp(p.x() - 0.5, 0.0, image.cols - 1.0);
+  const double y = std::clamp(p.y() - 0.5, 0.0, image.rows - 1.0);
+  const int x0 = std::min(static_cast<int>(x), image.cols - 1);
+  const int y0 = std::min(static_cast<int>(y), image.rows - 1);
+  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  const auto at = [&](int xx, int yy) {
+    const cv::Vec3f& c = image.at<cv::Vec3f>(yy, xx);
+    return Eigen::Vector3f(c[0], c[1], c[2]);
+  };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) +
+         fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));
+}
+
+FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
+                              const std::vector<Eigen::Vector3i>& faces,
+                              const std::vector<TextureView>& views,
+                              const std::function<cv::Mat(size_t)>& load_image,
+                              const FaceObservationOptions& options) {
+  FaceObservations obs;
+  obs.num_faces = faces.size();
+  obs.num_views = views.size();
+  obs.quality.assign(obs.num_faces * obs.num_views, 0.0f);
+  obs.colour.assign(obs.num_faces * obs.num_views, Eigen::Vector3f::Zero());
+  obs.coverage.assign(obs.num_views, 0.0);
+  obs.small_photos.resize(obs.num_views);
+  obs.small_scale.assign(obs.num_views, 1.0);
+  tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
+  Progress progress("texture: visibility", obs.num_views);
+  arena.execute([&] {
+    tbb::parallel_for(size_t{0}, obs.num_views, [&](size_t v) {
+      const cv::Mat photo = load_image(v);
+      const Camera& camera = views[v].camera;
+      if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
+        Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
+             photo.rows, photo.type(), camera.width, camera.height);
+      ObserveView(vertices, faces, views[v], photo, options, &obs.quality[v * obs.num_faces],
+                  &obs.colour[v * obs.num_faces], &obs.coverage[v], &obs.small_photos[v],
+                  &obs.small_scale[v]);
+      progress.Tick();
+    });
+  });
+  progress.Finish();
+  return obs;
+}
+
+void FaceObservationOptions::Check() const {
+  CheckAtLeast("max_raster_size", max_raster_size, 16);
+  CheckInRange("--depth-tolerance", depth_tolerance, 0, 1);
+  CheckInRange("--min-cos", min_cos_angle, 0, 1);
+  CheckAtLeast("border_px", border_px, 0);
+  CheckInRange("partial_face_weight", partial_face_weight, 0, 1);
+  CheckAtLeast("gradient_floor", gradient_floor, 0);
+  CheckAtLeast("--threads", num_threads, 0);
+}
+
+}  // namespace varsfm

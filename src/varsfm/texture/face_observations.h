@@ -1,0 +1,76 @@
+#pragma once
+// What every view sees of every face: whether it sees it unoccluded and well inside the image,
+// how well (the quality of Waechter, Moehrle & Goesele, "Let there be color!", ECCV 2014,
+// sec. 3.1: the gradient magnitude integrated over the face's projection, which rewards near,
+// frontal and sharp views alike), and the face's mean colour there, for the photo-consistency
+// check and the exposure gains. Each view also keeps a small copy of its photo for sampling
+// colours along seams (colour_levelling.h).
+#include <functional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "varsfm/camera/camera.h"
+#include "varsfm/geometry/rigid3.h"
+
+namespace varsfm {
+
+struct TextureView {
+  Camera camera;
+  Rigid3d cam_from_world;
+};
+
+struct FaceObservationOptions {
+  // Visibility rasters and the photos' small copies are at most this many pixels on their
+  // longer side (speed; faces are tested at their corners and centroid, so faces smaller than a
+  // raster pixel still are).
+  int max_raster_size = 1000;
+  // A face is occluded when the raster is nearer than its centroid or one of its corners by more
+  // than this fraction of the depth.
+  double depth_tolerance = 0.01;
+  // Faces seen at more than acos(min_cos_angle) from their normal are not textured from the view.
+  double min_cos_angle = 0.15;
+  // Vertices should project this far inside the image so the chart's pixels all exist.
+  double border_px = 2.0;
+  // Quality factor for a face only partly inside the image (its centroid must be inside).
+  double partial_face_weight = 0.05;
+  // Added to the gradient magnitude (grey levels per pixel) before integrating: among views of
+  // a weakly textured face the one that sees it largest wins, and sharpness decides only where
+  // the gradient is strong (held-out views of fountain-P11 rendered 0.2 dB better than with a
+  // floor of 2, sceaux the same: bench/results/2026-12-02-texture-*.md).
+  double gradient_floor = 20.0;
+  int num_threads = 0;  // 0: all cores
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+struct FaceObservations {
+  size_t num_faces = 0;
+  size_t num_views = 0;
+  // View-major (index v * num_faces + f). quality 0: the view is not a candidate for the face.
+  std::vector<float> quality;
+  std::vector<Eigen::Vector3f> colour;  // BGR, 0-255, the mean over the face's projection
+  std::vector<double> coverage;         // per view: the fraction of its pixels the mesh covers
+  std::vector<cv::Mat> small_photos;    // per view: CV_32FC3 BGR, small_scale x the photo
+  std::vector<double> small_scale;
+
+  float Quality(size_t view, size_t face) const { return quality[view * num_faces + face]; }
+  const Eigen::Vector3f& Colour(size_t view, size_t face) const {
+    return colour[view * num_faces + face];
+  }
+};
+
+// `load_image(v)` returns view v's photo (BGR, 8-bit, the camera's size); throws varsfm::Error
+// for a photo of another size.
+FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
+                              const std::vector<Eigen::Vector3i>& faces,
+                              const std::vector<TextureView>& views,
+                              const std::function<cv::Mat(size_t)>& load_image,
+                              const FaceObservationOptions& options = {});
+
+// Bilinear sample of a CV_32FC3 image at pixel position p (top-left-corner convention: pixel
+// (x, y) covers [x, x+1) x [y, y+1)), clamped to the image.
+Eigen::Vector3f SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& p);
+
+}  // namespace varsfm

@@ -1,0 +1,108 @@
+#include "varsfm/texture/photo_consistency.h"
+
+#include <array>
+#include <atomic>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "varsfm/util/option_check.h"
+
+namespace varsfm {
+namespace {
+
+// The mode reached by mean shift from `start` with a Gaussian kernel of the given bandwidth, and
+// the kernel density there.
+Eigen::Vector3f ShiftToMode(const std::vector<Eigen::Vector3f>& colours, Eigen::Vector3f start,
+                            double bandwidth, double* density) {
+  const double inv = 1.0 / (2 * bandwidth * bandwidth);
+  for (int iter = 0; iter < 20; ++iter) {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    double weights = 0;
+    for (const Eigen::Vector3f& c : colours) {
+      const double w = std::exp(-(c - start).squaredNorm() * inv);
+      sum += static_cast<float>(w) * c;
+      weights += w;
+    }
+    const Eigen::Vector3f next = sum / static_cast<float>(weights);
+    const bool done = (next - start).squaredNorm() < 1e-4f;
+    start = next;
+    if (done) break;
+  }
+  *density = 0;
+  for (const Eigen::Vector3f& c : colours) *density += std::exp(-(c - start).squaredNorm() * inv);
+  return start;
+}
+
+}  // namespace
+
+size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
+                               const std::vector<std::array<int, 3>>& neighbours,
+                               const PhotoConsistencyOptions& options, FaceObservations* obs) {
+  if (!options.enabled) return 0;
+  std::vector<char> rejected_here(obs->quality.size(), 0);
+  std::atomic<size_t> rejected = 0;
+  const float reject_sq =
+      static_cast<float>(std::pow(options.reject_distance * options.bandwidth, 2));
+  // Faces are independent and each writes only its own entries: parallel, and deterministic.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, obs->num_faces, 4096), [&](const auto& range) {
+    std::vector<size_t> views;
+    std::vector<Eigen::Vector3f> colours;
+    for (size_t f = range.begin(); f < range.end(); ++f) {
+      views.clear();
+      colours.clear();
+      for (size_t v = 0; v < obs->num_views; ++v) {
+        if (obs->Quality(v, f) <= 0) continue;
+        views.push_back(v);
+        colours.push_back(obs->Colour(v, f).cwiseProduct(gains[v]));
+      }
+      if (views.size() < 3) continue;  // no majority to side with
+      Eigen::Vector3f mode = Eigen::Vector3f::Zero();
+      double best_density = -1;
+      for (const Eigen::Vector3f& c : colours) {
+        double density;
+        const Eigen::Vector3f m = ShiftToMode(colours, c, options.bandwidth, &density);
+        if (density > best_density + 1e-9) {
+          best_density = density;
+          mode = m;
+        }
+      }
+      size_t inliers = 0;
+      for (const Eigen::Vector3f& c : colours) inliers += (c - mode).squaredNorm() <= reject_sq;
+      if (2 * inliers <= colours.size()) continue;
+      for (size_t k = 0; k < views.size(); ++k) {
+        if ((colours[k] - mode).squaredNorm() > reject_sq) {
+          obs->quality[views[k] * obs->num_faces + f] = 0;
+          rejected_here[views[k] * obs->num_faces + f] = 1;
+          ++rejected;
+        }
+      }
+    }
+  });
+  // An occluder's edge covers the faces around the rejected ones partly: their mean colour
+  // passes, but their texture would show a fringe of the occluder. Rejected too, for the faces
+  // that keep another candidate.
+  size_t ring = 0;
+  for (size_t f = 0; f < obs->num_faces; ++f) {
+    for (size_t v = 0; v < obs->num_views; ++v) {
+      if (!rejected_here[v * obs->num_faces + f]) continue;
+      for (const int g : neighbours[f]) {
+        if (g < 0 || obs->Quality(v, g) <= 0 || rejected_here[v * obs->num_faces + g]) continue;
+        size_t others = 0;
+        for (size_t u = 0; u < obs->num_views; ++u) others += u != v && obs->Quality(u, g) > 0;
+        if (others == 0) continue;
+        obs->quality[v * obs->num_faces + g] = 0;
+        ++ring;
+      }
+    }
+  }
+  return rejected + ring;
+}
+
+void PhotoConsistencyOptions::Check() const {
+  CheckGreaterThan("photo_consistency.bandwidth", bandwidth, 0);
+  CheckGreaterThan("photo_consistency.reject_distance", reject_distance, 0);
+}
+
+}  // namespace varsfm

@@ -1,0 +1,165 @@
+// View selection as a labelling problem: alpha-expansion against brute force, exposure gains
+// recovered exactly, and an occluder in one photo rejected by the photo-consistency check.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+#include "plane_scene.h"
+#include "varsfm/texture/alpha_expansion.h"
+#include "varsfm/texture/exposure_gain.h"
+#include "varsfm/texture/render.h"
+#include "varsfm/texture/texture_mapping.h"
+#include "varsfm/texture/view_selection.h"
+
+namespace varsfm {
+namespace {
+
+// A side x side grid of nodes, every label a candidate with a random cost.
+PottsProblem RandomGridProblem(int side, int num_labels, double potts, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> cost(0, 1);
+  PottsProblem p;
+  p.num_labels = num_labels;
+  p.potts = potts;
+  for (int n = 0; n < side * side; ++n) {
+    for (int l = 0; l < num_labels; ++l) {
+      p.candidate_labels.push_back(l);
+      p.candidate_costs.push_back(cost(rng));
+    }
+    p.offsets.push_back(p.candidate_labels.size());
+    const int x = n % side, y = n / side;
+    p.neighbours.push_back(
+        {x + 1 < side ? n + 1 : -1, y + 1 < side ? n + side : -1, x > 0 ? n - 1 : -1});
+  }
+  return p;
+}
+
+double BruteForceMinimum(const PottsProblem& p) {
+  const size_t n = p.num_nodes();
+  std::vector<int> labels(n, 0);
+  double best = 1e300;
+  while (true) {
+    best = std::min(best, PottsEnergy(p, labels));
+    size_t i = 0;
+    while (i < n && ++labels[i] == p.num_labels) labels[i++] = 0;
+    if (i == n) return best;
+  }
+}
+
+TEST(AlphaExpansion, TwoLabelsReachTheGlobalMinimum) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const PottsProblem p = RandomGridProblem(4, 2, 0.3, seed);
+    std::vector<int> labels(p.num_nodes(), 0);
+    ExpandLabels(p, 5, &labels);
+    EXPECT_NEAR(PottsEnergy(p, labels), BruteForceMinimum(p), 1e-6) << seed;
+  }
+}
+
+TEST(AlphaExpansion, ThreeLabelsWithinTheFactorTwoBound) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const PottsProblem p = RandomGridProblem(3, 3, 0.4, seed);
+    std::vector<int> labels(p.num_nodes(), 0);
+    const double start = PottsEnergy(p, labels);
+    ExpandLabels(p, 5, &labels);
+    const double optimum = BruteForceMinimum(p);
+    EXPECT_LE(PottsEnergy(p, labels), 2 * optimum + 1e-9) << seed;
+    EXPECT_LE(PottsEnergy(p, labels), start) << seed;
+  }
+}
+
+TEST(AlphaExpansion, NodesKeepTheirCandidates) {
+  PottsProblem p = RandomGridProblem(3, 1, 10.0, 1);  // label 0 everywhere ...
+  p.num_labels = 2;
+  p.candidate_labels[4] = 1;  // ... but the centre may only take label 1
+  std::vector<int> labels(p.num_nodes(), 0);
+  labels[4] = 1;
+  ExpandLabels(p, 5, &labels);
+  EXPECT_EQ(labels[4], 1);
+  for (int n : {0, 1, 2, 3, 5, 6, 7, 8}) EXPECT_EQ(labels[n], 0) << n;
+}
+
+TEST(ExposureGain, RecoversTheRatioOfExposures) {
+  // Three views of one face set; view 1 exposed at 0.5 and view 2 at 1.5 times view 0, per
+  // channel differently for view 2 (white balance).
+  FaceObservations obs;
+  obs.num_faces = 200;
+  obs.num_views = 3;
+  obs.quality.assign(600, 1.0f);
+  obs.colour.resize(600);
+  const Eigen::Vector3f exposure[3] = {{1, 1, 1}, {0.5f, 0.5f, 0.5f}, {1.5f, 1.4f, 1.3f}};
+  for (size_t f = 0; f < obs.num_faces; ++f) {
+    const Eigen::Vector3f c(40.0f + f % 50, 60.0f + f % 30, 50.0f + f % 70);
+    for (int v = 0; v < 3; ++v) obs.colour[v * obs.num_faces + f] = c.cwiseProduct(exposure[v]);
+  }
+  // A face is seen by an occluder in view 1 in a minority of faces: the median ignores it.
+  for (size_t f = 0; f < 30; ++f) obs.colour[obs.num_faces + f] = {200, 10, 10};
+  const std::vector<Eigen::Vector3f> gains = EstimateExposureGains(obs);
+  for (int v = 1; v < 3; ++v)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(gains[v][k] * exposure[v][k], gains[0][k] * exposure[0][k], 1e-3) << v << k;
+  // Geometric mean 1.
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(gains[0][k] * gains[1][k] * gains[2][k], 1.0, 1e-3);
+}
+
+// Three views of the plane; the middle one is nearest and frontal (the best for every face it
+// sees) but a red disc hides the plane around the origin in its photo: an occluder the mesh
+// does not have.
+struct OccludedPlane {
+  TriangleMesh mesh = testing::PlaneMesh();
+  std::vector<TextureView> views = {testing::PlaneView({-0.8, 0, -2.5}, {0, 0, 0}),
+                                    testing::PlaneView({0, 0, -2.0}, {0, 0, 0}),
+                                    testing::PlaneView({0.8, 0, -2.5}, {0, 0, 0})};
+  std::vector<cv::Mat> photos;
+  OccludedPlane() {
+    for (const TextureView& v : views) photos.push_back(testing::PhotographPlane(v, 1.0));
+    cv::circle(photos[1], cv::Point(100, 100), 25, cv::Scalar(0, 0, 255), cv::FILLED);
+  }
+  // Faces whose centroid is within `radius` of the origin.
+  std::vector<size_t> FacesNearOrigin(double radius) const {
+    std::vector<size_t> out;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+      const Eigen::Vector3d c = (mesh.vertices[mesh.faces[f][0]] + mesh.vertices[mesh.faces[f][1]] +
+                                 mesh.vertices[mesh.faces[f][2]]) /
+                                3;
+      if (c.norm() < radius) out.push_back(f);
+    }
+    return out;
+  }
+};
+
+TEST(ViewSelection, AnOccluderInOnePhotoIsRejected) {
+  const OccludedPlane scene;
+  const auto load = [&](size_t v) { return scene.photos[v]; };
+  // The disc covers 25 px around the image centre, at depth 2: radius 25 / 150 x 2 = 0.33.
+  const std::vector<size_t> hidden = scene.FacesNearOrigin(0.25);
+  ASSERT_GT(hidden.size(), 10u);
+  ViewSelectionOptions without;
+  without.consistency.enabled = false;
+  const ViewSelection naive =
+      SelectViews(scene.mesh.vertices, scene.mesh.faces, scene.views, load, without);
+  size_t naive_on_occluder = 0;
+  for (const size_t f : hidden) naive_on_occluder += naive.labels[f] == 1;
+  EXPECT_GT(naive_on_occluder, hidden.size() / 2) << "the test needs view 1 to be the best";
+
+  const ViewSelection checked =
+      SelectViews(scene.mesh.vertices, scene.mesh.faces, scene.views, load);
+  EXPECT_GT(checked.num_rejected_observations, hidden.size() / 2);
+  for (const size_t f : hidden) EXPECT_NE(checked.labels[f], 1) << f;
+  // Away from the disc the middle view still textures the plane.
+  size_t middle = 0;
+  for (const int label : checked.labels) middle += label == 1;
+  EXPECT_GT(middle, scene.mesh.faces.size() / 4);
+
+  // Rendered from the middle camera, the textured plane shows the plane, not the disc.
+  const TexturedMesh textured = TextureMesh(scene.mesh, scene.views, load);
+  const Rendering r =
+      RenderTexturedMesh(textured, scene.views[1].camera, scene.views[1].cam_from_world);
+  const cv::Vec3b centre = r.image.at<cv::Vec3b>(100, 100);
+  const Eigen::Vector3f truth = testing::PlaneColour(0, 0);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(centre[k], truth[k], 12) << k;
+}
+
+}  // namespace
+}  // namespace varsfm
