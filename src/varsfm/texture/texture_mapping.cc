@@ -54,6 +54,93 @@ std::vector<Chart> GrowCharts(const std::vector<int>& labels,
   return charts;
 }
 
+// The pixels of each chart's photo that go into the atlas: the bounding box of its faces'
+// projections plus `pad`. Returns the texels inside the faces, summed over the charts.
+double SetChartSources(const TriangleMesh& mesh, const std::vector<TextureView>& views,
+                       const std::vector<std::vector<ProjectedVertex>>& projected, int pad,
+                       std::vector<Chart>* charts) {
+  double face_texels = 0;
+  for (Chart& chart : *charts) {
+    const Camera& camera = views[chart.view].camera;
+    const std::vector<ProjectedVertex>& pixels = projected[chart.view];
+    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+    for (const int f : chart.faces) {
+      const Eigen::Vector2d& a = pixels[mesh.faces[f][0]].pixel;
+      const Eigen::Vector2d e1 = pixels[mesh.faces[f][1]].pixel - a;
+      const Eigen::Vector2d e2 = pixels[mesh.faces[f][2]].pixel - a;
+      face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector2d& p = pixels[mesh.faces[f][k]].pixel;
+        min_x = std::min(min_x, p.x());
+        min_y = std::min(min_y, p.y());
+        max_x = std::max(max_x, p.x());
+        max_y = std::max(max_y, p.y());
+      }
+    }
+    // Faces cut by the image border reach outside the photo: the rectangle may too, by at most
+    // a quarter of the image (the rest of such a face samples the rectangle's edge).
+    const int mx = camera.width / 4, my = camera.height / 4;
+    const int x0 = std::max(-mx, static_cast<int>(std::floor(min_x)) - pad);
+    const int y0 = std::max(-my, static_cast<int>(std::floor(min_y)) - pad);
+    const int x1 = std::min(camera.width + mx, static_cast<int>(std::ceil(max_x)) + pad);
+    const int y1 = std::min(camera.height + my, static_cast<int>(std::ceil(max_y)) + pad);
+    chart.source = cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0));
+  }
+  return face_texels;
+}
+
+// Unseen faces: their colour (mean vertex colour, or the neutral one) quantised to 5 bits per
+// channel picks a 3x3 palette cell, whose centre texel every such face samples. At most 32768
+// cells, however large the mesh.
+struct UnseenPalette {
+  std::vector<int> faces;
+  std::vector<int> cell_of_face;  // per entry of `faces`
+  std::vector<cv::Vec3b> colours;
+  int cells_per_row = 1;
+};
+
+UnseenPalette BuildUnseenPalette(const TriangleMesh& mesh, const std::vector<int>& labels,
+                                 const cv::Vec3b& unseen_color) {
+  UnseenPalette palette;
+  std::unordered_map<int, int> cell_of_key;
+  for (size_t f = 0; f < mesh.faces.size(); ++f) {
+    if (labels[f] >= 0) continue;
+    cv::Vec3b colour = unseen_color;
+    if (!mesh.colors.empty()) {
+      Eigen::Vector3i sum = Eigen::Vector3i::Zero();
+      for (int k = 0; k < 3; ++k) sum += mesh.colors[mesh.faces[f][k]].cast<int>();
+      // Mesh colours are RGB, atlas pages BGR.
+      colour = cv::Vec3b(static_cast<uchar>(sum[2] / 3), static_cast<uchar>(sum[1] / 3),
+                         static_cast<uchar>(sum[0] / 3));
+    }
+    const int key = (colour[0] >> 3) << 10 | (colour[1] >> 3) << 5 | (colour[2] >> 3);
+    const auto [it, inserted] =
+        cell_of_key.try_emplace(key, static_cast<int>(palette.colours.size()));
+    if (inserted) palette.colours.push_back(colour);
+    palette.faces.push_back(static_cast<int>(f));
+    palette.cell_of_face.push_back(it->second);
+  }
+  palette.cells_per_row =
+      std::max(1, static_cast<int>(std::ceil(std::sqrt(palette.colours.size()))));
+  return palette;
+}
+
+// Applies the view's gain and the levelling corrections to a chart's texels (chart_colour.h).
+void CorrectChart(const TriangleMesh& mesh, const Chart& chart,
+                  const std::vector<ProjectedVertex>& pixels,
+                  const std::vector<std::array<Eigen::Vector3f, 3>>& corrections,
+                  const Eigen::Vector3f& gain, double reach, cv::Mat* target) {
+  std::vector<std::array<Eigen::Vector2d, 3>> face_pixels(chart.faces.size());
+  std::vector<std::array<Eigen::Vector3f, 3>> face_corrections(chart.faces.size());
+  const Eigen::Vector2d corner(chart.source.x, chart.source.y);
+  for (size_t i = 0; i < chart.faces.size(); ++i) {
+    for (int k = 0; k < 3; ++k)
+      face_pixels[i][k] = pixels[mesh.faces[chart.faces[i]][k]].pixel - corner;
+    face_corrections[i] = corrections[chart.faces[i]];
+  }
+  CorrectChartColours(face_pixels, face_corrections, gain, reach, target);
+}
+
 }  // namespace
 
 TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
@@ -96,65 +183,15 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
                                               views[chart.view].cam_from_world);
   }
 
-  std::vector<AtlasRect> rects;
   const int pad = std::max(0, options.padding);
-  for (Chart& chart : charts) {
-    const Camera& camera = views[chart.view].camera;
-    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
-    for (const int f : chart.faces) {
-      const Eigen::Vector2d& a = projected[chart.view][mesh.faces[f][0]].pixel;
-      const Eigen::Vector2d e1 = projected[chart.view][mesh.faces[f][1]].pixel - a;
-      const Eigen::Vector2d e2 = projected[chart.view][mesh.faces[f][2]].pixel - a;
-      st.face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector2d& p = projected[chart.view][mesh.faces[f][k]].pixel;
-        min_x = std::min(min_x, p.x());
-        min_y = std::min(min_y, p.y());
-        max_x = std::max(max_x, p.x());
-        max_y = std::max(max_y, p.y());
-      }
-    }
-    // Faces cut by the image border reach outside the photo: the rectangle may too, by at most
-    // a quarter of the image (the rest of such a face samples the rectangle's edge).
-    const int mx = camera.width / 4, my = camera.height / 4;
-    const int x0 = std::max(-mx, static_cast<int>(std::floor(min_x)) - pad);
-    const int y0 = std::max(-my, static_cast<int>(std::floor(min_y)) - pad);
-    const int x1 = std::min(camera.width + mx, static_cast<int>(std::ceil(max_x)) + pad);
-    const int y1 = std::min(camera.height + my, static_cast<int>(std::ceil(max_y)) + pad);
-    chart.source = cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0));
-    rects.push_back({chart.source.width, chart.source.height});
-  }
-  // Unseen faces: their colour (mean vertex colour, or the neutral one) quantised to 5 bits per
-  // channel picks a 3x3 palette cell, whose centre texel every such face samples. At most 32768
-  // cells, however large the mesh.
-  std::vector<int> unseen;
-  std::vector<int> cell_of_unseen;
-  std::vector<cv::Vec3b> cell_colours;
-  {
-    std::unordered_map<int, int> cell_of_key;
-    for (size_t f = 0; f < mesh.faces.size(); ++f) {
-      if (selection.labels[f] >= 0) continue;
-      cv::Vec3b colour = options.unseen_color;
-      if (!mesh.colors.empty()) {
-        Eigen::Vector3i sum = Eigen::Vector3i::Zero();
-        for (int k = 0; k < 3; ++k) sum += mesh.colors[mesh.faces[f][k]].cast<int>();
-        // Mesh colours are RGB, atlas pages BGR.
-        colour = cv::Vec3b(static_cast<uchar>(sum[2] / 3), static_cast<uchar>(sum[1] / 3),
-                           static_cast<uchar>(sum[0] / 3));
-      }
-      const int key = (colour[0] >> 3) << 10 | (colour[1] >> 3) << 5 | (colour[2] >> 3);
-      const auto [it, inserted] =
-          cell_of_key.try_emplace(key, static_cast<int>(cell_colours.size()));
-      if (inserted) cell_colours.push_back(colour);
-      unseen.push_back(static_cast<int>(f));
-      cell_of_unseen.push_back(it->second);
-    }
-  }
-  const int cells_per_row =
-      std::max(1, static_cast<int>(std::ceil(std::sqrt(cell_colours.size()))));
-  if (!unseen.empty()) {
-    const int rows = static_cast<int>((cell_colours.size() + cells_per_row - 1) / cells_per_row);
-    rects.push_back({3 * cells_per_row, 3 * rows});
+  st.face_texels = SetChartSources(mesh, views, projected, pad, &charts);
+  std::vector<AtlasRect> rects;
+  for (const Chart& chart : charts) rects.push_back({chart.source.width, chart.source.height});
+  const UnseenPalette palette = BuildUnseenPalette(mesh, selection.labels, options.unseen_color);
+  if (!palette.faces.empty()) {
+    const int rows = static_cast<int>((palette.colours.size() + palette.cells_per_row - 1) /
+                                      palette.cells_per_row);
+    rects.push_back({3 * palette.cells_per_row, 3 * rows});
   }
   const AtlasLayout layout = PackRectangles(rects, options.max_page_size);
 
@@ -200,15 +237,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
                            chart.source.br().x - inside.br().x,
                            cv::BORDER_REPLICATE | cv::BORDER_ISOLATED);
       }
-      std::vector<std::array<Eigen::Vector2d, 3>> face_pixels(chart.faces.size());
-      std::vector<std::array<Eigen::Vector3f, 3>> face_corrections(chart.faces.size());
-      const Eigen::Vector2d corner(chart.source.x, chart.source.y);
-      for (size_t i = 0; i < chart.faces.size(); ++i) {
-        for (int k = 0; k < 3; ++k)
-          face_pixels[i][k] = projected[v][mesh.faces[chart.faces[i]][k]].pixel - corner;
-        face_corrections[i] = corrections[chart.faces[i]];
-      }
-      CorrectChartColours(face_pixels, face_corrections, selection.gains[v], pad + 1.0, &target);
+      CorrectChart(mesh, chart, projected[v], corrections, selection.gains[v], pad + 1.0, &target);
       const Eigen::Vector2d shift(place.x - chart.source.x, place.y - chart.source.y);
       const Eigen::Vector2d inv_size(1.0 / page.cols, 1.0 / page.rows);
       texcoord_of_vertex.clear();
@@ -227,21 +256,22 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
       }
     }
   }
-  if (!unseen.empty()) {
+  if (!palette.faces.empty()) {
     const AtlasPlacement& place = layout.placements.back();
     cv::Mat& page = out.pages[place.page];
     const int first_texcoord = static_cast<int>(out.texcoords.size());
-    for (size_t i = 0; i < cell_colours.size(); ++i) {
-      const cv::Vec3b& colour = cell_colours[i];
-      const cv::Rect cell(place.x + 3 * static_cast<int>(i % cells_per_row),
-                          place.y + 3 * static_cast<int>(i / cells_per_row), 3, 3);
+    for (size_t i = 0; i < palette.colours.size(); ++i) {
+      const cv::Vec3b& colour = palette.colours[i];
+      const int per_row = palette.cells_per_row;
+      const cv::Rect cell(place.x + 3 * static_cast<int>(i % per_row),
+                          place.y + 3 * static_cast<int>(i / per_row), 3, 3);
       page(cell).setTo(cv::Scalar(colour[0], colour[1], colour[2]));
       filled[place.page](cell).setTo(255);
       out.texcoords.emplace_back((cell.x + 1.5f) / page.cols, (cell.y + 1.5f) / page.rows);
     }
-    for (size_t i = 0; i < unseen.size(); ++i) {
-      out.face_page[unseen[i]] = place.page;
-      out.face_texcoords[unseen[i]].setConstant(first_texcoord + cell_of_unseen[i]);
+    for (size_t i = 0; i < palette.faces.size(); ++i) {
+      out.face_page[palette.faces[i]] = place.page;
+      out.face_texcoords[palette.faces[i]].setConstant(first_texcoord + palette.cell_of_face[i]);
     }
   }
   if (options.bleed_rings > 0) {
