@@ -196,9 +196,9 @@ TEST(MultiViewStereo, OptionsAreChecked) {
   options = PatchMatchOptionsFor(DenseMethod::kFill);
   options.mvs.patchmatch.window_step = 0;
   EXPECT_THROW(options.Check(), OptionError);
-  // Propagation alone does not look at the multi-view stereo settings.
+  // Refused whatever the method, so that a mistyped setting is not silently ignored.
   options.method = DenseMethod::kPropagation;
-  EXPECT_NO_THROW(options.Check());
+  EXPECT_THROW(options.Check(), OptionError);
 }
 
 }  // namespace

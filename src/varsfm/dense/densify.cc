@@ -427,7 +427,7 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
 }
 
 void DensifyOptions::Check() const {
-  if (method != DenseMethod::kPropagation) mvs.Check();
+  mvs.Check();  // also for propagation: a bad value is refused, not silently ignored
   CheckInRange("--partners", max_partners, 1, 10);
   CheckAtLeast("min_shared_points", min_shared_points, 1);
   CheckInRange("min_pair_angle_deg", min_pair_angle_deg, 0, 180);
