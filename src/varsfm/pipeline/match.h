@@ -26,8 +26,10 @@ enum class MatchStrategy {
   kAuto,        // exhaustive up to kAutoRetrievalImages images, retrieval above
 };
 
-// kAuto matches exhaustively up to this many images and by retrieval above.
-inline constexpr size_t kAutoRetrievalImages = 50;
+// kAuto matches exhaustively up to this many images and by retrieval above: where exhaustive
+// matching's n(n-1)/2 pairs cost as much as retrieval's pairs (about 0.6 n k) plus training the
+// tree, measured on a rendered 240-image walk (bench/results/2026-12-02-retrieval.md).
+inline constexpr size_t kAutoRetrievalImages = 100;
 
 // "exhaustive", "sequential", "retrieval", "auto": the names the command line takes and summaries
 // give.
