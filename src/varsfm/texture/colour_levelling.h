@@ -11,8 +11,9 @@
 // colour gaps at seams, the second spreads each correction smoothly over its chart, and the ridge
 // makes it fade over about sqrt(smoothness / ridge) edges from the seam: the exposure gains
 // have already removed the photos' global differences, and a correction carried across a whole
-// chart from a few noisy seam samples (misregistered detail) did worse on held-out views than a
-// local one (fountain-P11: ridge 1e-4 cost 0.5 dB against no levelling; 0.05-0.2 gained 0.1). Sparse and symmetric positive definite: one Cholesky
+// chart from a few noisy seam samples (misregistered detail) rendered held-out views worse than
+// no levelling, a local one better (the texture labelling-and-levelling results in
+// bench/results). Sparse and symmetric positive definite: one Cholesky
 // factorisation (Eigen's SimplicialLDLT), three right-hand sides (B, G, R). Colours are compared
 // after the exposure gains, which leaves the levelling the local differences only.
 #include <array>

@@ -37,8 +37,8 @@ struct FaceObservationOptions {
   double partial_face_weight = 0.05;
   // Added to the gradient magnitude (grey levels per pixel) before integrating: among views of
   // a weakly textured face the one that sees it largest wins, and sharpness decides only where
-  // the gradient is strong (held-out views of fountain-P11 rendered 0.2 dB better than with a
-  // floor of 2, sceaux the same: bench/results/2026-12-02-texture-*.md).
+  // the gradient is strong (a low floor, letting sharpness decide everywhere, rendered held-out
+  // views no better: the texture labelling-and-levelling results in bench/results).
   double gradient_floor = 20.0;
   int num_threads = 0;  // 0: all cores
 
