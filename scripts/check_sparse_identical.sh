@@ -58,7 +58,8 @@ for set in "${sets[@]}"; do
   models="$(cd "$new/$name/sparse" && ls -d [0-9]* | wc -l)"
   figures="$(python3 -c 'import json, sys
 s = json.load(open(sys.argv[1]))
-print(f"{s["images_registered"]}/{s["images_total"]} registered, {s["points3D"]} points")' \
+registered, total, points = s["images_registered"], s["images_total"], s["points3D"]
+print(f"{registered}/{total} registered, {points} points")' \
     "$new/$name/summary.json" 2>/dev/null || echo "?")"
   if [[ ${#differ[@]} -eq 0 ]]; then
     echo "$name: identical ($((compared / 2)) .bin files in $models model(s); $figures)"
