@@ -4,7 +4,9 @@
 # `varsfm run SET OUT --until sparse` (extract, match, map) on the seven sets of ../shared/data,
 # then every OUT/sparse/*/*.bin of the one is compared with the other's by `cmp`.
 #   scripts/check_sparse_identical.sh BASELINE_BINARY NEW_BINARY [WORK_DIR]
-# A binary's runs are kept under WORK_DIR/<its sha256>/ (default /tmp/varsfm-sparse-identical)
+# Environment: RUN_ARGS, more options for every `run` (e.g. "--intrinsics focal-per-image", to
+# check a non-default path); SETS, a subset of the sets (e.g. "bundler/kermit bundler/ET").
+# A binary's runs are kept under WORK_DIR/<hash of the binary and RUN_ARGS>/ (default /tmp/varsfm-sparse-identical)
 # and reused while it is unchanged, so checking commit after commit against one baseline runs
 # the baseline once. Prints one line per set (the number of .bin files compared, registered
 # images and points of model 0) and exits 1 when any file differs or is missing, or a run fails.
@@ -16,13 +18,15 @@ work="${3:-/tmp/varsfm-sparse-identical}"
 [[ -d "$data" ]] || { echo "no shared data at $data" >&2; exit 2; }
 sets=(strecha/fountain-P11/images strecha/fountain-P11-zoom/images strecha/Herz-Jesus-P8/images
       strecha/entry-P10/images bundler/kermit bundler/ET sceaux/images)
+[[ -n "${SETS:-}" ]] && read -r -a sets <<<"$SETS"
+read -r -a run_args <<<"${RUN_ARGS:-}"
 
 # Runs binary $1 on every set under WORK_DIR/<sha256>; prints that folder.
 run_all() {
   local binary sha dir set name
   binary="$(realpath "$1")"
   [[ -x "$binary" ]] || { echo "no varsfm binary $binary" >&2; exit 2; }
-  sha="$(sha256sum "$binary" | cut -c1-16)"
+  sha="$( (sha256sum "$binary" | cut -c1-16; echo "${RUN_ARGS:-}") | sha256sum | cut -c1-16)"
   dir="$work/$sha"
   mkdir -p "$dir"
   for set in "${sets[@]}"; do
@@ -30,7 +34,7 @@ run_all() {
     [[ -f "$dir/$name.done" ]] && continue
     rm -rf "${dir:?}/$name"
     echo "== $name with $binary" >&2
-    if ! "$binary" run "$data/$set" "$dir/$name" --until sparse >"$dir/$name.log" 2>&1; then
+    if ! "$binary" run "$data/$set" "$dir/$name" --until sparse "${run_args[@]}" >"$dir/$name.log" 2>&1; then
       echo "$name: run failed with $binary (log $dir/$name.log)" >&2
       exit 1
     fi

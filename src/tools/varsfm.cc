@@ -148,47 +148,50 @@ void AddLogLevelOption(CLI::App* app) {
 // Mapper options shared by `map` and `run`.
 void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   auto& m = map->mapper;
-  cmd->add_option("--local-ba-images", m.local_ba_images, "m0: images in each local BA")
+  auto& a = m.adjustment;
+  auto& in = m.intrinsics;
+  cmd->add_option("--local-ba-images", a.local_ba_images, "m0: images in each local BA")
       ->capture_default_str();
-  cmd->add_option("--local-ba-max-track", m.local_ba_max_track_length,
+  cmd->add_option("--local-ba-max-track", a.local_ba_max_track_length,
                   "points seen by more images are held constant in local BAs (0: none)")
       ->capture_default_str();
-  cmd->add_option("--global-ba-images", m.first_global_ba_images,
+  cmd->add_option("--global-ba-images", a.first_global_ba_images,
                   "M0: images registered before the first global BA (0: after every image)")
       ->capture_default_str();
-  cmd->add_option("--global-ba-growth", m.global_ba_growth,
+  cmd->add_option("--global-ba-growth", a.global_ba_growth,
                   "further global BA when the model grew by this factor (0: never)")
       ->capture_default_str();
-  cmd->add_option("--global-ba-tolerance", m.global_ba_function_tolerance,
+  cmd->add_option("--global-ba-tolerance", a.global_ba_function_tolerance,
                   "global BAs stop when an iteration lowers the cost by less than this fraction")
       ->capture_default_str();
-  cmd->add_option("--growth-ba-tolerance", m.growth_ba_function_tolerance,
+  cmd->add_option("--growth-ba-tolerance", a.growth_ba_function_tolerance,
                   "the same for the global BAs as the model grows (--global-ba-growth)")
       ->capture_default_str();
   using TrustRegion = varsfm::BundleAdjustmentOptions::TrustRegion;
-  AddChoice(cmd, "--global-ba-trust-region", &m.global_ba_trust_region,
+  AddChoice(cmd, "--global-ba-trust-region", &a.global_ba_trust_region,
             {{"dogleg", TrustRegion::kDogleg}, {"lm", TrustRegion::kLevenbergMarquardt}},
             "global BAs' steps, Powell's dogleg or Levenberg-Marquardt");
-  cmd->add_option("--degenerate-init-global-ba", m.degenerate_init_global_ba_images,
+  cmd->add_option("--degenerate-init-global-ba", a.degenerate_init_global_ba_images,
                   "after a degenerate initial pair, a global BA when this many images are in "
                   "(0: none)")
       ->capture_default_str();
   cmd->add_flag("!--no-degenerate-focal-search", m.degenerate_init_focal_search,
                 "keep the prior focal length of a degenerate initial pair (default: the one a "
                 "third view fits best)");
-  cmd->add_flag("!--no-final-global-ba", m.final_global_ba,
+  cmd->add_flag("!--no-final-global-ba", a.final_global_ba,
                 "skip the global BA at the end (with --global-ba-images above the image count, "
                 "--global-ba-growth 0 and --degenerate-init-global-ba 0: local BA only)");
-  cmd->add_option("--min-correspondences", m.min_correspondences, "n0: 2D-3D needed (>= 6)")
+  cmd->add_option("--min-correspondences", m.registration.min_correspondences,
+                  "n0: 2D-3D needed (>= 6)")
       ->capture_default_str();
-  cmd->add_flag("--refine-principal-point", m.refine_principal_point,
+  cmd->add_flag("--refine-principal-point", in.refine_principal_point,
                 "estimate the principal point per image (default: held at the centre)");
-  cmd->add_flag("!--no-shared-principal-point", m.share_principal_point,
+  cmd->add_flag("!--no-shared-principal-point", in.share_principal_point,
                 "hold every principal point at its image centre (default: one principal point "
                 "per image size, estimated in the global adjustments)");
-  cmd->add_flag("--refine-aspect", m.refine_aspect, "estimate the aspect ratio per image");
-  cmd->add_flag("--refine-skew", m.refine_skew, "estimate the skew per image");
-  cmd->add_flag("!--no-distortion", m.refine_distortion, "hold k1 = k2 = 0");
+  cmd->add_flag("--refine-aspect", in.refine_aspect, "estimate the aspect ratio per image");
+  cmd->add_flag("--refine-skew", in.refine_skew, "estimate the skew per image");
+  cmd->add_flag("!--no-distortion", in.refine_distortion, "hold k1 = k2 = 0");
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
   cmd->add_option("--seed", m.seed, "random seed")->capture_default_str()->check(kNotNegative);
@@ -209,7 +212,7 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
             "bundle adjustment solver: by size, varsfm's dense Schur LM, Ceres only by size, or "
             "one of Ceres' (Schur complement each)");
   using Sharing = varsfm::IntrinsicsSharing;
-  AddChoice(cmd, "--intrinsics", &map->sharing,
+  AddChoice(cmd, "--intrinsics", &in.sharing,
             {{"per-image", Sharing::kPerImage},
              {"focal-per-image", Sharing::kFocalPerImage},
              {"shared", Sharing::kShared}},

@@ -74,23 +74,26 @@ TEST(OptionsCheck, Match) {
 TEST(OptionsCheck, Map) {
   ExpectEachRejected<MapOptions>(
       {},
-      {{"--local-ba-images", [](auto& o) { o.mapper.local_ba_images = 0; }},
-       {"--local-ba-max-track", [](auto& o) { o.mapper.local_ba_max_track_length = -1; }},
-       {"--global-ba-images", [](auto& o) { o.mapper.first_global_ba_images = -1; }},
-       {"--global-ba-growth", [](auto& o) { o.mapper.global_ba_growth = 0.5; }},
-       {"--global-ba-growth", [](auto& o) { o.mapper.global_ba_growth = kNan; }},
-       {"--global-ba-tolerance", [](auto& o) { o.mapper.global_ba_function_tolerance = kNan; }},
-       {"--growth-ba-tolerance", [](auto& o) { o.mapper.growth_ba_function_tolerance = 0; }},
+      {{"--local-ba-images", [](auto& o) { o.mapper.adjustment.local_ba_images = 0; }},
+       {"--local-ba-max-track",
+        [](auto& o) { o.mapper.adjustment.local_ba_max_track_length = -1; }},
+       {"--global-ba-images", [](auto& o) { o.mapper.adjustment.first_global_ba_images = -1; }},
+       {"--global-ba-growth", [](auto& o) { o.mapper.adjustment.global_ba_growth = 0.5; }},
+       {"--global-ba-growth", [](auto& o) { o.mapper.adjustment.global_ba_growth = kNan; }},
+       {"--global-ba-tolerance",
+        [](auto& o) { o.mapper.adjustment.global_ba_function_tolerance = kNan; }},
+       {"--growth-ba-tolerance",
+        [](auto& o) { o.mapper.adjustment.growth_ba_function_tolerance = 0; }},
        {"--degenerate-init-global-ba",
-        [](auto& o) { o.mapper.degenerate_init_global_ba_images = -2; }},
-       {"--min-correspondences", [](auto& o) { o.mapper.min_correspondences = 5; }},
+        [](auto& o) { o.mapper.adjustment.degenerate_init_global_ba_images = -2; }},
+       {"--min-correspondences", [](auto& o) { o.mapper.registration.min_correspondences = 5; }},
        {"--threads", [](auto& o) { o.mapper.num_threads = -3; }},
        {"init_min_median_angle_deg", [](auto& o) { o.mapper.init_min_median_angle_deg = kInf; }},
        {"min_matches_fraction", [](auto& o) { o.mapper.initial_pair.min_matches_fraction = kNan; }},
-       {"registration_max_error_px", [](auto& o) { o.mapper.registration_max_error_px = kNan; }},
+       {"registration_max_error_px", [](auto& o) { o.mapper.registration.max_error_px = kNan; }},
        {"min_pair_inliers", [](auto& o) { o.min_pair_inliers = 0; }}});
   MapOptions never;
-  never.mapper.global_ba_growth = 0;  // "never" is allowed
+  never.mapper.adjustment.global_ba_growth = 0;  // "never" is allowed
   EXPECT_NO_THROW(never.Check());
 }
 
@@ -160,13 +163,13 @@ TEST(OptionsCheck, Evaluate) {
 // `run` checks every stage's options before the first one starts.
 TEST(OptionsCheck, Run) {
   ExpectEachRejected<RunOptions>(
-      {},
-      {{"--max-features", [](auto& o) { o.extract.sift.max_features = -1; }},
-       {"--ratio", [](auto& o) { o.match.matching.max_ratio = kNan; }},
-       {"--global-ba-tolerance", [](auto& o) { o.map.mapper.global_ba_function_tolerance = -1; }},
-       {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kInf; }},
-       {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
-       {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }}});
+      {}, {{"--max-features", [](auto& o) { o.extract.sift.max_features = -1; }},
+           {"--ratio", [](auto& o) { o.match.matching.max_ratio = kNan; }},
+           {"--global-ba-tolerance",
+            [](auto& o) { o.map.mapper.adjustment.global_ba_function_tolerance = -1; }},
+           {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kInf; }},
+           {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
+           {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }}});
 }
 
 TEST(OptionsCheck, Demo) {

@@ -35,7 +35,7 @@ TEST_P(ZoomingOrbitMapping, ReconstructsAtTheNoiseFloor) {
   const SyntheticScene scene = GenerateSyntheticScene(ZoomingOrbit());
   MapperInput in = MakeInput(scene);
   IncrementalMapperOptions options;
-  options.global_ba_trust_region = GetParam();
+  options.adjustment.global_ba_trust_region = GetParam();
   IncrementalMapper mapper(in.graph, {}, options);
   const MapperSummary summary = mapper.Reconstruct(&in.reconstruction);
   ASSERT_TRUE(summary.success) << summary.message;
@@ -97,7 +97,7 @@ TEST(IncrementalMapper, GrowthAdjustmentsStopEarlierAndTheModelReachesTheNoiseFl
     MapperInput in = MakeInput(scene);
     IncrementalMapperOptions options;
     options.sequential_order = true;
-    options.growth_ba_function_tolerance = growth_tolerance;
+    options.adjustment.growth_ba_function_tolerance = growth_tolerance;
     IncrementalMapper mapper(in.graph, {}, options);
     const MapperSummary summary = mapper.Reconstruct(&in.reconstruction);
     *out = in.reconstruction;

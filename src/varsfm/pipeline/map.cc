@@ -45,7 +45,7 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
     Camera camera = CameraFromColmap(db_camera->model_id, db_camera->params, db_camera->width,
                                      db_camera->height);
     camera.camera_id = db_image.image_id;
-    if (options.sharing == IntrinsicsSharing::kShared) {
+    if (options.mapper.intrinsics.sharing == IntrinsicsSharing::kShared) {
       if (!shared_camera) {
         shared_camera = camera;
         rec.AddCamera(camera);
@@ -235,8 +235,6 @@ MapResult RunMapping(const MapOptions& options) {
         std::async(std::launch::async, SampleKeypointColors, options.image_dir, std::move(images));
   }
   IncrementalMapperOptions mapper_options = options.mapper;
-  if (options.sharing == IntrinsicsSharing::kFocalPerImage)
-    mapper_options.share_all_but_focal = true;
   const size_t num_images = ws.reconstruction.images().size();
   Progress progress("map", num_images);
   size_t shown = 0;

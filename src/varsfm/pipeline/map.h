@@ -14,19 +14,12 @@
 
 namespace varsfm {
 
-enum class IntrinsicsSharing {
-  kPerImage,       // every image its own camera (the paper; default)
-  kShared,         // one camera for all images (a fixed-zoom capture)
-  kFocalPerImage,  // focal length per image, the other intrinsics one set per image size
-};
-
 struct MapOptions {
   std::filesystem::path workspace;
   std::filesystem::path output;
   std::filesystem::path image_dir;  // optional: colours of the points are read from the images
-  IntrinsicsSharing sharing = IntrinsicsSharing::kPerImage;
-  IncrementalMapperOptions mapper;
-  int min_pair_inliers = 15;  // pairs with fewer verified matches are ignored
+  IncrementalMapperOptions mapper;  // its `intrinsics.sharing` also decides how cameras load
+  int min_pair_inliers = 15;        // pairs with fewer verified matches are ignored
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
   // runs.

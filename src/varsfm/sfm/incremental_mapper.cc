@@ -8,16 +8,10 @@
 #include <optional>
 #include <set>
 
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
-
 #include "varsfm/ba/bundle_adjuster.h"
 #include "varsfm/calibration/two_view_calibration.h"
-#include "varsfm/estimators/projection_estimator.h"
 #include "varsfm/estimators/two_view_estimators.h"
-#include "varsfm/geometry/projection_decomposition.h"
 #include "varsfm/geometry/triangulation.h"
-#include "varsfm/sfm/absolute_pose_refinement.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
 
@@ -25,48 +19,8 @@ namespace varsfm {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-
-// The intrinsics the bundle adjustments refine, from the mapper's policy. Parameters shared
-// per image size are estimated in the adjustments of the whole model (`whole_model`: two-view
-// and global; groups need min_images_to_share images, so the two-view one holds them) and held
-// at their current values in local ones and in the registration of a new image, so that every
-// camera of a size keeps the same values.
-IntrinsicsOptions MapperIntrinsics(const IncrementalMapperOptions& o, bool whole_model) {
-  IntrinsicsOptions in;
-  in.refine_focal = true;
-  in.refine_aspect = o.refine_aspect;
-  in.refine_skew = o.refine_skew;
-  in.refine_principal_point = o.refine_principal_point;
-  in.refine_k1 = o.refine_distortion;
-  in.refine_k2 = o.refine_distortion;
-  const bool share_pp = o.share_principal_point || o.share_all_but_focal;
-  if (o.share_all_but_focal)
-    in.shared_per_size = {Camera::kAspect, Camera::kSkew, Camera::kU0,
-                          Camera::kV0,     Camera::kK1,   Camera::kK2};
-  else if (share_pp && !o.refine_principal_point)
-    in.shared_per_size = {Camera::kU0, Camera::kV0};
-  if (o.share_principal_point && !o.refine_principal_point) in.refine_principal_point = whole_model;
-  if (!whole_model)
-    for (const int i : in.shared_per_size) {
-      if (i == Camera::kAspect) in.refine_aspect = false;
-      if (i == Camera::kSkew) in.refine_skew = false;
-      if (i == Camera::kU0) in.refine_principal_point = false;
-      if (i == Camera::kK1) in.refine_k1 = false;
-      if (i == Camera::kK2) in.refine_k2 = false;
-    }
-  return in;
-}
-
-// Whether a K from the DLT decomposition is physically plausible for this image.
-bool PlausibleCalibration(const Eigen::Matrix3d& K, const Camera& camera) {
-  const double size = std::max(camera.width, camera.height);
-  const double f = K(0, 0);
-  const double aspect = K(1, 1) / K(0, 0);
-  const Eigen::Vector2d pp(K(0, 2), K(1, 2));
-  const Eigen::Vector2d centre(camera.width / 2.0, camera.height / 2.0);
-  return f > 0.3 * size && f < 5 * size && aspect > 0.8 && aspect < 1.25 &&
-         std::abs(K(0, 1)) < 0.1 * f && (pp - centre).norm() < 0.3 * size;
-}
+// How often a run's progress line shows a fresh RMS (it costs a pass over the model).
+constexpr size_t kProgressUpdates = 20;
 
 double MedianTriangulationAngle(const Reconstruction& rec) {
   std::vector<double> angles;
@@ -78,16 +32,6 @@ double MedianTriangulationAngle(const Reconstruction& rec) {
   if (angles.empty()) return 0;
   std::nth_element(angles.begin(), angles.begin() + angles.size() / 2, angles.end());
   return angles[angles.size() / 2];
-}
-
-// Inlier count of a pose+camera on the 2D-3D correspondences.
-size_t CountInliers(const Camera& camera, const Rigid3d& pose,
-                    const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Vector3d>& X,
-                    double max_error) {
-  size_t n = 0;
-  for (size_t i = 0; i < x.size(); ++i)
-    if (ReprojectionError(camera, pose, x[i], X[i]) <= max_error) ++n;
-  return n;
 }
 
 }  // namespace
@@ -103,14 +47,35 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
   registration_order_.clear();
   frontier_.clear();
 
-  // 1. Initialisation: candidates by the disparity criterion; the first pair whose
-  // self-calibration is not degenerate wins, else the best degenerate one (prior focal).
+  // 1. Initialisation.
   Timer timer;
+  if (!InitializeModel(rec, &summary)) return summary;
+  summary.seconds_initialization = timer.Seconds();
+  if (options_.progress) options_.progress(2, summary.num_images, rec->RmsReprojectionError());
+
+  // 2. The other images one by one.
+  RegisterAll(rec, &summary);
+
+  // 3. Final global adjustment (with re-triangulation and filtering).
+  const BundleAdjustmentScheduleOptions& schedule = options_.adjustment;
+  if (schedule.final_global_ba)
+    GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
+                           schedule.final_global_ba_max_iterations,
+                           schedule.global_ba_function_tolerance);
+  rec->UpdatePointErrors();
+  summary.num_registered = rec->NumRegisteredImages();
+  summary.success = true;
+  return summary;
+}
+
+bool IncrementalMapper::InitializeModel(Reconstruction* rec, MapperSummary* summary) {
+  // Candidates by the disparity criterion; the first pair whose self-calibration is not
+  // degenerate wins, else the best degenerate one (prior focal).
   const auto candidates =
       RankInitialPairs(*rec, graph_, excluded_initial_pairs_, options_.initial_pair);
   if (candidates.empty()) {
-    summary.message = NoInitialPairReason(graph_, excluded_initial_pairs_, options_.initial_pair);
-    return summary;
+    summary->message = NoInitialPairReason(graph_, excluded_initial_pairs_, options_.initial_pair);
+    return false;
   }
   // Cheap first pass: F and the conditioning of the closed-form focal lengths for the best
   // candidates; then full calibration of well-conditioned pairs first, in score order.
@@ -126,98 +91,67 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
       if (!geometries[k].success || (first_pass && !geometries[k].well_conditioned)) continue;
       *rec = empty;
       initialized = Initialize(rec, candidates[k], geometries[k],
-                               /*accept_degenerate=*/!first_pass, &summary);
+                               /*accept_degenerate=*/!first_pass, summary);
       initial = k;
     }
   }
-  if (initialized && summary.initial_focal_from_prior && options_.degenerate_init_focal_search)
-    SelectDegenerateFocal(empty, candidates[initial], geometries[initial], rec, &summary);
+  if (initialized && summary->initial_focal_from_prior && options_.degenerate_init_focal_search)
+    SelectDegenerateFocal(empty, candidates[initial], geometries[initial], rec, summary);
   if (!initialized) {
     *rec = empty;
-    summary.message =
+    summary->message =
         "no image pair could be initialised (too little parallax, or matches explained "
         "by a rotation or a plane)";
-    return summary;
   }
-  summary.seconds_initialization = timer.Seconds();
-  if (options_.progress) options_.progress(2, summary.num_images, rec->RmsReprojectionError());
+  return initialized;
+}
 
-  // 2. Register the other images one by one; failed ones are retried after later successes.
-  size_t last_global_size = 2;
-  bool first_global_done = false;
+void IncrementalMapper::RegisterAll(Reconstruction* rec, MapperSummary* summary) {
+  const BundleAdjustmentScheduleOptions& schedule_options = options_.adjustment;
+  BundleAdjustmentSchedule schedule(schedule_options);
   double progress_rms = -1.0;
   while (true) {
     bool registered_any = false;
     for (const image_t image_id : NextImageCandidates(*rec)) {
       Timer reg_timer;
       const bool ok = RegisterImage(rec, image_id);
-      summary.seconds_registration += reg_timer.Seconds();
+      summary->seconds_registration += reg_timer.Seconds();
       if (!ok) continue;
       registration_order_.push_back(image_id);
       Timer tri_timer;
-      TriangulateImage(rec, image_id);
-      summary.seconds_triangulation += tri_timer.Seconds();
+      TriangulateImage(graph_, options_.triangulation, image_id, rec);
+      summary->seconds_triangulation += tri_timer.Seconds();
 
       const size_t n = rec->NumRegisteredImages();
-      // M0 <= 0: a global BA after every image (the Pollefeys-like baseline of the paper).
-      const bool paper_global =
-          options_.first_global_ba_images <= 0 ||
-          (!first_global_done && n >= static_cast<size_t>(options_.first_global_ba_images));
-      // A growth adjustment is skipped when the final one follows within half a growth step
-      // (all images registered before the model grows by the factor's square root): it would
-      // redo nearly the same problem (e.g. at 192 of 200 images). Not within a whole step: on
-      // a 1000-image sequence that skipped the one due at 808 images, and the final one had to
-      // fix the drift of ~420 images with local adjustments only (44 iterations, 143 s).
-      const bool final_within_growth =
-          options_.final_global_ba &&
-          summary.num_images < std::sqrt(options_.global_ba_growth) * static_cast<double>(n);
-      const bool growth_global = first_global_done && options_.global_ba_growth > 1.0 &&
-                                 n >= options_.global_ba_growth * last_global_size &&
-                                 !final_within_growth;
-      // A degenerate initial pair entered with its focal lengths held (Initialize): one early
-      // global adjustment, once the images determine them, settles every focal length before
-      // the model grows on them (fountain-P11-zoom: the final adjustment then needs 8
-      // iterations instead of 50).
-      const bool settle_focals =
-          summary.initial_calibration_degenerate && options_.degenerate_init_global_ba_images > 0 &&
-          n == static_cast<size_t>(options_.degenerate_init_global_ba_images);
-      if (paper_global || growth_global) {
-        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
-                               options_.global_ba_max_iterations,
-                               paper_global ? options_.global_ba_function_tolerance
-                                            : options_.growth_ba_function_tolerance);
-        first_global_done = true;
-        last_global_size = n;
-      } else if (settle_focals) {  // outside the schedule: M0 and the growth stay as they are
-        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
-                               options_.global_ba_max_iterations,
-                               options_.global_ba_function_tolerance);
-      } else {
-        LocalBundleAdjustment(rec, &summary);
+      switch (schedule.Next(n, summary->num_images, summary->initial_calibration_degenerate)) {
+        case ScheduledAdjustment::kGlobal:
+        case ScheduledAdjustment::kSettleFocals:
+          GlobalBundleAdjustment(rec, summary, /*retriangulate=*/true,
+                                 schedule_options.global_ba_max_iterations,
+                                 schedule_options.global_ba_function_tolerance);
+          break;
+        case ScheduledAdjustment::kGrowth:
+          GlobalBundleAdjustment(rec, summary, /*retriangulate=*/true,
+                                 schedule_options.global_ba_max_iterations,
+                                 schedule_options.growth_ba_function_tolerance);
+          break;
+        case ScheduledAdjustment::kLocal:
+          LocalBundleAdjustment(rec, summary);
+          break;
       }
       if (options_.progress) {
-        // The model's RMS costs a pass over every observation: refreshed 20 times a run, so
-        // that reporting stays linear in the number of images.
-        const size_t every = std::max<size_t>(1, summary.num_images / 20);
-        if (n % every == 0 || n == summary.num_images || progress_rms < 0)
+        // The model's RMS costs a pass over every observation: refreshed kProgressUpdates times
+        // a run, so that reporting stays linear in the number of images.
+        const size_t every = std::max<size_t>(1, summary->num_images / kProgressUpdates);
+        if (n % every == 0 || n == summary->num_images || progress_rms < 0)
           progress_rms = rec->RmsReprojectionError();
-        options_.progress(n, summary.num_images, progress_rms);
+        options_.progress(n, summary->num_images, progress_rms);
       }
       registered_any = true;
       break;  // candidates change with every registration
     }
     if (!registered_any) break;
   }
-
-  // 3. Final global adjustment (with re-triangulation and filtering).
-  if (options_.final_global_ba)
-    GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
-                           options_.final_global_ba_max_iterations,
-                           options_.global_ba_function_tolerance);
-  rec->UpdatePointErrors();
-  summary.num_registered = rec->NumRegisteredImages();
-  summary.success = true;
-  return summary;
 }
 
 IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
@@ -231,7 +165,7 @@ IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
   }
   // F re-estimated on the verified matches with a tight threshold.
   RansacOptions ransac;
-  ransac.max_error = 1.5;
+  ransac.max_error = options_.init_max_error_px;
   ransac.seed = DeriveSeed(options_.seed, pair.image_id1 * 65536ull + pair.image_id2);
   const auto report = EstimateFundamentalMatrix(x1, x2, ransac);
   if (!report.success) return geometry;
@@ -301,12 +235,12 @@ bool IncrementalMapper::Initialize(Reconstruction* rec, const InitialPairCandida
   // the valley to wherever the solver's path ends; the global adjustment at 4 images frees them).
   if (adjust) {
     BundleAdjustmentOptions ba;
-    ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
+    ba.intrinsics = options_.intrinsics.ForAdjustment(/*whole_model=*/true);
     if (calib.degenerate) ba.intrinsics.refine_focal = false;
     ba.num_threads = options_.num_threads;
     ba.solver = options_.ba_solver;
     RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
-    rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
+    rec->FilterObservationsWithLargeError(options_.adjustment.filter_max_error_px);
     if (rec->points3D().size() < static_cast<size_t>(options_.min_initial_points)) return false;
   }
 
@@ -341,7 +275,7 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
     // For sequential input only the threshold matters (the order is the sequence's), and
     // the count stops there: counting all took 4 % of a 1000-image street's mapping.
     const size_t enough = options_.sequential_order
-                              ? static_cast<size_t>(options_.min_correspondences)
+                              ? static_cast<size_t>(options_.registration.min_correspondences)
                               : std::numeric_limits<size_t>::max();
     size_t visible = 0;
     for (point2D_t idx = 0; idx < image.points2D.size() && visible < enough; ++idx) {
@@ -353,7 +287,7 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
         }
       }
     }
-    if (visible < static_cast<size_t>(options_.min_correspondences)) continue;
+    if (visible < static_cast<size_t>(options_.registration.min_correspondences)) continue;
     size_t key = visible;
     if (options_.sequential_order) {
       // Nearest in sequence to the last registered image first.
@@ -369,6 +303,22 @@ std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction
   std::vector<image_t> ids;
   for (const auto& [score, id] : scored) ids.push_back(id);
   return ids;
+}
+
+double IncrementalMapper::TruncatedRegistrationError(const Reconstruction& rec,
+                                                     image_t probe) const {
+  const double tau2 = options_.registration.max_error_px * options_.registration.max_error_px;
+  const Image& image = rec.image(probe);
+  const Camera& camera = rec.CameraOf(probe);
+  const auto corrs = FindCorrespondences2D3D(graph_, rec, probe);
+  double sum = 0.0;
+  for (const auto& c : corrs) {
+    const double e =
+        ReprojectionError(camera, image.cam_from_world, image.points2D[c.point2D_idx].xy,
+                          rec.point3D(c.point3D_id).xyz);
+    sum += std::min(tau2, e * e);
+  }
+  return corrs.empty() ? std::numeric_limits<double>::infinity() : sum / corrs.size();
 }
 
 void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
@@ -392,7 +342,6 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   const std::vector<image_t> next = NextImageCandidates(*rec);
   if (next.empty()) return;
   const image_t probe = next.front();
-  const double tau2 = options_.registration_max_error_px * options_.registration_max_error_px;
   // A trial skips the mapper's two-view adjustment (the calibration's own, with the focal
   // lengths held, has refined poses and points): fountain-P11-zoom's initialisation 0.65 -> 0.56 s,
   // and every trial is scored on the same footing.
@@ -403,19 +352,10 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
                     std::exp(log_scale), /*adjust=*/false) ||
         !RegisterImage(&trial, probe))
       return std::numeric_limits<double>::infinity();
-    const Image& image = trial.image(probe);
-    const Camera& camera = trial.CameraOf(probe);
-    const auto corrs = Correspondences(trial, probe);
-    double sum = 0.0;
-    for (const auto& c : corrs) {
-      const double e =
-          ReprojectionError(camera, image.cam_from_world, image.points2D[c.point2D_idx].xy,
-                            trial.point3D(c.point3D_id).xyz);
-      sum += std::min(tau2, e * e);
-    }
-    return corrs.empty() ? std::numeric_limits<double>::infinity() : sum / corrs.size();
+    return TruncatedRegistrationError(trial, probe);
   };
-  const double step = 0.5 * std::log(2.0), limit = 2 * step;
+  const double step = options_.degenerate_focal_log_step;
+  const double limit = options_.degenerate_focal_max_steps * step;
   std::map<double, double> trials;  // score by log(scale)
   for (const double l : {-step, 0.0, step}) trials.emplace(l, evaluate(l));
   const auto best = [&trials] {
@@ -459,243 +399,33 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   registration_order_ = {pair.image_id1, pair.image_id2};
 }
 
-std::vector<IncrementalMapper::Correspondence2D3D> IncrementalMapper::Correspondences(
-    const Reconstruction& rec, image_t image_id) const {
-  // 2D-3D correspondences through tracks (Algorithm 2, over every registered image).
-  const Image& image = rec.image(image_id);
-  std::vector<Correspondence2D3D> corrs;
-  for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
-    for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
-      const Image& other = rec.image(corr.image_id);
-      if (!other.registered) continue;
-      const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
-      if (pid == kInvalidPoint3DId) continue;
-      corrs.push_back({idx, pid});
-      break;
-    }
-  }
-  return corrs;
-}
-
 bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
-  Image& image = rec->image(image_id);
-  const std::vector<Correspondence2D3D> corrs = Correspondences(*rec, image_id);
-  if (corrs.size() < static_cast<size_t>(std::max(options_.min_correspondences, 6))) return false;
-  std::vector<Eigen::Vector2d> x;
-  std::vector<Eigen::Vector3d> X;
-  for (const auto& c : corrs) {
-    x.push_back(image.points2D[c.point2D_idx].xy);
-    X.push_back(rec->point3D(c.point3D_id).xyz);
-  }
-
-  Camera& camera = rec->CameraOf(image_id);
-  const bool shared_camera = [&] {
-    for (const image_t other : registration_order_)
-      if (rec->image(other).camera_id == image.camera_id) return true;
+  if (!varsfm::RegisterImage(graph_, options_.registration, options_.intrinsics,
+                             registration_order_, options_.seed, image_id, rec))
     return false;
-  }();
-  // The focal length of the registered image this one shares most points with: the
-  // starting value when the DLT's K is implausible (zoom changes slowly along a capture).
-  std::map<image_t, size_t> shared_points;
-  for (const auto& c : corrs)
-    for (const auto& el : rec->point3D(c.point3D_id).track) ++shared_points[el.image_id];
-  image_t neighbour = registration_order_.back();
-  size_t best = 0;
-  for (const auto& [id, count] : shared_points)
-    if (count > best) best = count, neighbour = id;
-  const Camera neighbour_camera = rec->CameraOf(neighbour);
-
-  AbsolutePoseRefinementOptions refine;
-  refine.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
-  if (shared_camera)
-    refine.intrinsics = IntrinsicsOptions{false, false, false, false, false, false, {}};
-  refine.intrinsics.refine_k1 = refine.intrinsics.refine_k2 = false;  // few points: BA does it
-
-  struct Hypothesis {
-    Camera camera;
-    Rigid3d pose;
-    size_t inliers = 0;
-  };
-  std::vector<Hypothesis> hypotheses;
-  const auto refine_and_score = [&](Hypothesis h) {
-    std::vector<Eigen::Vector2d> xi;
-    std::vector<Eigen::Vector3d> Xi;
-    for (size_t i = 0; i < x.size(); ++i)
-      if (ReprojectionError(h.camera, h.pose, x[i], X[i]) <=
-          4 * options_.registration_max_error_px) {
-        xi.push_back(x[i]);
-        Xi.push_back(X[i]);
-      }
-    if (xi.size() < 6 || !RefineAbsolutePose(refine, xi, Xi, &h.camera, &h.pose)) return;
-    h.inliers = CountInliers(h.camera, h.pose, x, X, options_.registration_max_error_px);
-    hypotheses.push_back(h);
-  };
-
-  // (a) The paper: RANSAC + DLT projection matrix, decomposed into K, R, t (section 4.3).
-  RansacOptions ransac;
-  ransac.max_error = options_.registration_max_error_px;
-  ransac.seed = DeriveSeed(options_.seed, image_id);
-  const auto p_report = EstimateProjectionMatrix(x, X, ransac);
-  if (p_report.success) {
-    Eigen::Matrix3d K, R;
-    Eigen::Vector3d t;
-    if (DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) {
-      Hypothesis h{shared_camera ? camera : neighbour_camera, Rigid3d(R, t), 0};
-      if (!shared_camera && PlausibleCalibration(K, camera)) {
-        // Keep the held parameters at their initial values (policy), take the rest from K.
-        Camera from_dlt = camera;
-        from_dlt.params[Camera::kK1] = neighbour_camera.params[Camera::kK1];
-        from_dlt.params[Camera::kK2] = neighbour_camera.params[Camera::kK2];
-        from_dlt.focal() = 0.5 * (K(0, 0) + K(1, 1));
-        if (options_.refine_aspect) from_dlt.params[Camera::kAspect] = K(1, 1) / K(0, 0);
-        if (options_.refine_skew) from_dlt.params[Camera::kSkew] = K(0, 1);
-        // Parameters shared per image size start from the group's current values.
-        if (neighbour_camera.width == camera.width && neighbour_camera.height == camera.height)
-          for (const int i : MapperIntrinsics(options_, true).shared_per_size)
-            from_dlt.params[i] = neighbour_camera.params[i];
-        if (options_.refine_principal_point) {
-          from_dlt.params[Camera::kU0] = K(0, 2);
-          from_dlt.params[Camera::kV0] = K(1, 2);
-        }
-        h.camera = from_dlt;
-      }
-      refine_and_score(h);
-    }
-  }
-  // (b) Fallback: PnP with the neighbour's intrinsics (robust on nearly planar point sets,
-  // where the DLT is ill-posed), then the same refinement frees the focal length.
-  {
-    const Camera start = shared_camera ? camera : neighbour_camera;
-    std::vector<cv::Point2d> image_points;
-    std::vector<cv::Point3d> object_points;
-    for (size_t i = 0; i < x.size(); ++i) {
-      const Eigen::Vector2d n = start.ImageToNormalized(x[i]);
-      image_points.emplace_back(n.x(), n.y());
-      object_points.emplace_back(X[i].x(), X[i].y(), X[i].z());
-    }
-    cv::Mat rvec, tvec;
-    cv::setRNGSeed(static_cast<int>(DeriveSeed(options_.seed, image_id) & 0x7fffffff));
-    if (cv::solvePnPRansac(object_points, image_points, cv::Mat::eye(3, 3, CV_64F), cv::noArray(),
-                           rvec, tvec, false, 1000,
-                           options_.registration_max_error_px / start.focal(), 0.9999,
-                           cv::noArray(), cv::SOLVEPNP_AP3P)) {
-      cv::Mat Rcv;
-      cv::Rodrigues(rvec, Rcv);
-      Eigen::Matrix3d R;
-      Eigen::Vector3d t;
-      cv::cv2eigen(Rcv, R);
-      cv::cv2eigen(tvec, t);
-      refine_and_score({start, Rigid3d(R, t), 0});
-    }
-  }
-  if (hypotheses.empty()) return false;
-  const Hypothesis& chosen = *std::max_element(
-      hypotheses.begin(), hypotheses.end(),
-      [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
-  if (chosen.inliers < static_cast<size_t>(options_.min_registration_inliers)) return false;
-  const double size = std::max(camera.width, camera.height);
-  if (chosen.camera.focal() < 0.2 * size || chosen.camera.focal() > 10 * size) return false;
-
-  if (!shared_camera) camera.params = chosen.camera.params;
-  image.cam_from_world = chosen.pose;
-  rec->RegisterImage(image_id);
   ExtendFrontier(image_id);
-  for (size_t i = 0; i < corrs.size(); ++i)
-    if (ReprojectionError(camera, image.cam_from_world, x[i], X[i]) <=
-        options_.registration_max_error_px)
-      rec->AddObservation(corrs[i].point3D_id, {image_id, corrs[i].point2D_idx});
-  debug("registered image {} ({}) with {} inliers of {}, f {:.1f}", image_id, image.name,
-        chosen.inliers, corrs.size(), camera.focal());
   return true;
-}
-
-size_t IncrementalMapper::TriangulateImage(Reconstruction* rec, image_t image_id) {
-  const double max_error = options_.triangulation_max_error_px;
-  const double min_angle = options_.min_triangulation_angle_deg * kDegree;
-  size_t added = 0;
-  const size_t num_points2D = rec->image(image_id).points2D.size();
-  for (point2D_t idx = 0; idx < num_points2D; ++idx) {
-    if (rec->image(image_id).points2D[idx].HasPoint3D()) continue;
-    const auto& corrs = graph_.CorrespondencesOf(image_id, idx);
-    if (corrs.empty()) continue;
-
-    // Continue an existing track when the point reprojects well here.
-    point3D_t best_id = kInvalidPoint3DId;
-    double best_error = max_error;
-    std::vector<TrackElement> fresh = {{image_id, idx}};
-    for (const auto& corr : corrs) {
-      const Image& other = rec->image(corr.image_id);
-      if (!other.registered) continue;
-      const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
-      if (pid == kInvalidPoint3DId) {
-        fresh.push_back({corr.image_id, corr.point2D_idx});
-        continue;
-      }
-      const double error =
-          std::sqrt(rec->SquaredReprojectionError({image_id, idx}, rec->point3D(pid).xyz));
-      if (error < best_error) best_error = error, best_id = pid;
-    }
-    if (best_id != kInvalidPoint3DId) {
-      rec->AddObservation(best_id, {image_id, idx});
-      continue;
-    }
-    if (fresh.size() < 2) continue;
-
-    // A new point from every registered view that sees it: linear multi-view triangulation in
-    // normalised coordinates, then refinement of the pixel error through each camera.
-    std::vector<Matrix34d> Ps;
-    std::vector<Eigen::Vector2d> normalized, pixels;
-    std::vector<Camera> cameras;
-    std::vector<Rigid3d> poses;
-    for (const auto& el : fresh) {
-      const Image& im = rec->image(el.image_id);
-      Ps.push_back(im.cam_from_world.ToMatrix());
-      cameras.push_back(rec->camera(im.camera_id));
-      poses.push_back(im.cam_from_world);
-      pixels.push_back(im.points2D[el.point2D_idx].xy);
-      normalized.push_back(cameras.back().ImageToNormalized(pixels.back()));
-    }
-    Eigen::Vector3d X;
-    if (!TriangulateMultiView(Ps, normalized, &X)) continue;
-    RefineTriangulatedPoint(cameras, poses, pixels, &X);
-    std::vector<TrackElement> track;
-    std::vector<Eigen::Vector3d> centers;
-    for (size_t k = 0; k < fresh.size(); ++k) {
-      if (!HasPositiveDepth(poses[k], X)) continue;
-      if (ReprojectionError(cameras[k], poses[k], pixels[k], X) > max_error) continue;
-      track.push_back(fresh[k]);
-      centers.push_back(poses[k].Center());
-    }
-    if (track.size() < 2 || track.front().image_id != image_id) continue;
-    double angle = 0;
-    for (size_t a = 0; a < centers.size() && angle < min_angle; ++a)
-      for (size_t b = a + 1; b < centers.size() && angle < min_angle; ++b)
-        angle = std::max(angle, TriangulationAngle(centers[a], centers[b], X));
-    if (angle < min_angle) continue;
-    rec->AddPoint3D(X, track);
-    ++added;
-  }
-  return added;
 }
 
 void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary) {
   Timer timer;
-  const size_t m0 = std::min<size_t>(options_.local_ba_images, registration_order_.size());
+  const BundleAdjustmentScheduleOptions& schedule = options_.adjustment;
+  const size_t m0 = std::min<size_t>(schedule.local_ba_images, registration_order_.size());
   const std::vector<image_t> window(registration_order_.end() - m0, registration_order_.end());
   BundleAdjustmentOptions ba;
-  ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/false);
+  ba.intrinsics = options_.intrinsics.ForAdjustment(/*whole_model=*/false);
   ba.num_threads = options_.num_threads;
   ba.solver = options_.ba_solver;
-  ba.max_iterations = 25;  // as COLMAP's local BA: the global ones finish the job
-  ba.function_tolerance = options_.local_ba_function_tolerance;
+  ba.max_iterations = schedule.local_ba_max_iterations;
+  ba.function_tolerance = schedule.local_ba_function_tolerance;
   ba.verbose = spdlog::should_log(spdlog::level::trace);
   const auto ba_summary = RunBundleAdjustment(
-      ba, BundleAdjustmentConfig::Local(*rec, window, options_.local_ba_max_track_length), rec);
+      ba, BundleAdjustmentConfig::Local(*rec, window, schedule.local_ba_max_track_length), rec);
   debug("local BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
         ba_summary.initial_rms_px, ba_summary.final_rms_px);
-  rec->FilterObservationsWithLargeError(options_.filter_max_error_px, window);
-  rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg, window);
+  rec->FilterObservationsWithLargeError(schedule.filter_max_error_px, window);
+  rec->FilterPointsWithSmallTriangulationAngle(schedule.filter_min_triangulation_angle_deg, window);
   ++summary->num_local_ba;
   summary->seconds_local_ba += timer.Seconds();
 }
@@ -704,13 +434,14 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
                                                bool retriangulate, int max_iterations,
                                                double function_tolerance) {
   Timer timer;
+  const BundleAdjustmentScheduleOptions& schedule = options_.adjustment;
   BundleAdjustmentOptions ba;
-  ba.intrinsics = MapperIntrinsics(options_, /*whole_model=*/true);
+  ba.intrinsics = options_.intrinsics.ForAdjustment(/*whole_model=*/true);
   ba.num_threads = options_.num_threads;
   ba.solver = options_.ba_solver;
   ba.max_iterations = max_iterations;
   ba.function_tolerance = function_tolerance;
-  ba.trust_region = options_.global_ba_trust_region;
+  ba.trust_region = schedule.global_ba_trust_region;
   // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
   ba.verbose = spdlog::should_log(spdlog::level::trace);
   const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
@@ -723,21 +454,20 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
       focals += fmt::format(" {}:{:.0f}", id, rec->CameraOf(id).focal());
     debug("focal lengths after the global BA:{}", focals);
   }
-  rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
-  rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
+  rec->FilterObservationsWithLargeError(schedule.filter_max_error_px);
+  rec->FilterPointsWithSmallTriangulationAngle(schedule.filter_min_triangulation_angle_deg);
   if (retriangulate) {
     // Re-triangulation: with better poses and intrinsics, more tracks pass the checks.
     size_t added = 0;
-    for (const image_t id : registration_order_) added += TriangulateImage(rec, id);
-    debug("re-triangulation: {} observations added to {} points", added, rec->points3D().size());
-    // Another adjustment only when re-triangulation changed the model noticeably: on
-    // fountain-P11 the final one adds 16 observations to 60,000 and a second adjustment cost
-    // 1.1 s (a sixth of the mapper) for no measurable change.
-    if (added > 0.01 * rec->NumObservations()) {
+    for (const image_t id : registration_order_)
+      added += TriangulateImage(graph_, options_.triangulation, id, rec);
+    debug("re-triangulation: {} new points, {} in all", added, rec->points3D().size());
+    // Another adjustment only when re-triangulation changed the model noticeably.
+    if (added > schedule.readjust_min_new_points_fraction * rec->NumObservations()) {
       summary->num_global_ba_iterations +=
           RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec).iterations;
-      rec->FilterObservationsWithLargeError(options_.filter_max_error_px);
-      rec->FilterPointsWithSmallTriangulationAngle(options_.min_triangulation_angle_deg);
+      rec->FilterObservationsWithLargeError(schedule.filter_max_error_px);
+      rec->FilterPointsWithSmallTriangulationAngle(schedule.filter_min_triangulation_angle_deg);
     }
   }
   summary->num_global_ba_iterations += ba_summary.iterations;

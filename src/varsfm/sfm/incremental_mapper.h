@@ -12,6 +12,7 @@
 // to register, outlier filtering after each bundle adjustment, re-triangulation, further global
 // adjustments as the model grows, and a PnP fallback when the DLT's K is implausible (a nearly
 // planar set of points makes the DLT ill-posed).
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <set>
@@ -20,84 +21,44 @@
 
 #include "varsfm/ba/bundle_adjuster.h"
 #include "varsfm/scene/reconstruction.h"
+#include "varsfm/sfm/bundle_adjustment_schedule.h"
 #include "varsfm/sfm/correspondence_graph.h"
+#include "varsfm/sfm/image_registration.h"
 #include "varsfm/sfm/initial_pair.h"
+#include "varsfm/sfm/intrinsics_policy.h"
+#include "varsfm/sfm/track_triangulation.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
 
+// The mapper's options, each part with its defaults in its own header: initial pair
+// (initial_pair.h), registration (image_registration.h), triangulation (track_triangulation.h),
+// bundle adjustments (bundle_adjustment_schedule.h), intrinsics (intrinsics_policy.h); here
+// the initialisation's and the whole run's.
 struct IncrementalMapperOptions {
   InitialPairOptions initial_pair;
+  // Candidates by the disparity criterion that are calibrated and tried, best first.
   int max_initial_pair_trials = 10;
   int min_initial_points = 50;
   // The initial pair's points must have this median triangulation angle: a pure rotation or
   // a too-short baseline gives near-zero angles (and a meaningless structure).
   double init_min_median_angle_deg = 3.0;
-
-  int local_ba_images = 3;  // m0 of the paper
-  // Beyond the paper: in a local adjustment, points seen by more images than this are held and
-  // enter only through the window's observations (0: every point free with its whole track). As
-  // COLMAP (15); it keeps the local adjustments' cost bounded on long sequences (bench/scale).
-  int local_ba_max_track_length = 15;
-  // Local adjustments stop at this relative cost decrease (Ceres' function tolerance): they
-  // only need to keep the new images consistent, the global ones reach the minimum.
-  double local_ba_function_tolerance = 1e-3;
-  double global_ba_function_tolerance = 1e-5;
-  // The growth adjustments' (global_ba_growth) tolerance: each is followed by others and by
-  // the final one, so they stop earlier. On bench/scale's street (sequential order, 2026-12-02)
-  // 1e-5 -> 1e-4: 1000 images global adjustments 51.8 -> 44.3 s, 500: 22.3 -> 19.9 s, the
-  // 300-image orbit 24.8 -> 19.0 s; camera-centre, rotation and focal errors the same to 1 %
-  // (the final adjustment stays at global_ba_function_tolerance).
-  double growth_ba_function_tolerance = 1e-4;
-  // The global adjustments' trust region. The dogleg by default: on bench/scale's 1000-image
-  // street the final adjustment from the same start (2026-12-02) took 17 steps, 12
-  // factorisations and 22 s against Levenberg-Marquardt's 21, 21 and 31 s, and ended nearer the
-  // minimum (camera-centre error 0.17 against 0.30 GT units). LM's damping held back the weak
-  // directions (per-image distortion against pose, the street's bend); a rejected dogleg step
-  // reuses its factorisation. The local adjustments (3 steps) stay on LM.
-  BundleAdjustmentOptions::TrustRegion global_ba_trust_region =
-      BundleAdjustmentOptions::TrustRegion::kDogleg;
-  // Iteration caps: the global adjustments while the model grows, and the final one. With LM
-  // some global adjustments of a 1000-image street sequence (bench/scale) crawled along its
-  // weak directions at ~1e-4 relative decrease per iteration to the cap; those during growth
-  // are followed by others, so 25 bounds their cost (with the dogleg they take 5-8 steps).
-  int global_ba_max_iterations = 25;
-  // After a degenerate initial pair (focal lengths held in its two-view adjustment), a global
-  // adjustment when this many images are registered (0: none).
-  int degenerate_init_global_ba_images = 4;
-  // A degenerate initial pair's focal length is chosen by a third view (SelectDegenerateFocal
-  // in incremental_mapper.cc) instead of taken from the prior.
+  // The pair's fundamental matrix is re-estimated on its verified matches with this inlier
+  // threshold (px), tighter than the matching's: the self-calibration reads the focal lengths
+  // from F, and loose inliers bend it.
+  double init_max_error_px = 1.5;
+  // A degenerate initial pair's focal length is chosen by a third view (SelectDegenerateFocal)
+  // instead of taken from the prior: scales of the prior this far apart in log(scale) (sqrt(2)),
+  // widened up to this many steps from 1 (x0.5 .. x2 the prior: 0.6 .. 2.4 x the larger image
+  // side without EXIF), then a parabola through the bracket.
   bool degenerate_init_focal_search = true;
-  int final_global_ba_max_iterations = 50;
-  int first_global_ba_images = 13;  // M0 of the paper (10..20)
-  // Beyond the paper: a further global BA each time the model has grown by this factor since
-  // the last one (0 disables: the paper's schedule).
-  double global_ba_growth = 1.4;
-  // The paper's global adjustment at the end; off (with no M0 / growth adjustments) gives the
-  // local-only, Mouragnon-like baseline of the benchmarks.
-  bool final_global_ba = true;
+  double degenerate_focal_log_step = 0.5 * std::log(2.0);
+  int degenerate_focal_max_steps = 2;
 
-  int min_correspondences = 6;  // n0: the DLT needs six 2D-3D correspondences
-  int min_registration_inliers = 15;
-  double registration_max_error_px = 4.0;
-  double triangulation_max_error_px = 4.0;
-  double filter_max_error_px = 4.0;
-  double min_triangulation_angle_deg = 1.5;
-
-  // Which intrinsics are estimated per image (the others stay at their initial values:
-  // principal point at the image centre, aspect 1, skew 0). The paper refines them all; on
-  // real sequences holding the principal point, aspect and skew is more accurate (see
-  // docs/mapper.md).
-  bool refine_principal_point = false;
-  // One principal point per image size, estimated in the global adjustments from all images
-  // of that size (IntrinsicsOptions::share_principal_point); new images start from it.
-  bool share_principal_point = true;
-  // "Focal length per image, the rest shared": aspect, skew, principal point and k1, k2 are
-  // one set per image size (a zoom lens on one body), estimated in the global adjustments.
-  bool share_all_but_focal = false;
-  bool refine_aspect = false;
-  bool refine_skew = false;
-  bool refine_distortion = true;
+  ImageRegistrationOptions registration;
+  TrackTriangulationOptions triangulation;
+  BundleAdjustmentScheduleOptions adjustment;
+  IntrinsicsPolicy intrinsics;
 
   // Next image: the one that sees the most reconstructed points (next-best view), or the
   // next in sequence order for ordered input (video, numbered photos).
@@ -169,16 +130,17 @@ class IncrementalMapper {
   void SelectDegenerateFocal(const Reconstruction& empty, const InitialPairCandidate& pair,
                              const PairGeometry& geometry, Reconstruction* rec,
                              MapperSummary* summary);
-  // A 2D point of an unregistered image and the 3D point its tracks lead to.
-  struct Correspondence2D3D {
-    point2D_t point2D_idx;
-    point3D_t point3D_id;
-  };
-  // Through tracks (Algorithm 2 of the paper, generalised to every registered image).
-  std::vector<Correspondence2D3D> Correspondences(const Reconstruction& rec,
-                                                  image_t image_id) const;
+  // Chooses and initialises the initial pair (the first candidate whose self-calibration is not
+  // degenerate, else the best degenerate one); on failure says why in summary->message.
+  bool InitializeModel(Reconstruction* rec, MapperSummary* summary);
+  // Registers the image (image_registration.h) and adds its neighbours to frontier_.
   bool RegisterImage(Reconstruction* rec, image_t image_id);
-  size_t TriangulateImage(Reconstruction* rec, image_t image_id);
+  // Mean truncated squared reprojection error (px^2) of the 2D-3D correspondences of registered
+  // image `probe` (MSAC's cost), infinity when it has none.
+  double TruncatedRegistrationError(const Reconstruction& rec, image_t probe) const;
+  // Registers the next images one by one, each followed by the adjustment the schedule says;
+  // failed ones are retried after later successes.
+  void RegisterAll(Reconstruction* rec, MapperSummary* summary);
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
   // Adds the matching-graph neighbours of an image just registered to frontier_.
   void ExtendFrontier(image_t registered);

@@ -1,0 +1,250 @@
+#include "varsfm/sfm/image_registration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include "varsfm/estimators/projection_estimator.h"
+#include "varsfm/geometry/projection_decomposition.h"
+#include "varsfm/geometry/triangulation.h"
+#include "varsfm/sfm/absolute_pose_refinement.h"
+#include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
+#include "varsfm/util/random.h"
+
+namespace varsfm {
+
+void ImageRegistrationOptions::Check() const {
+  CheckAtLeast("--min-correspondences", min_correspondences, 6);
+  CheckAtLeast("min_registration_inliers", min_inliers, 6);
+  CheckGreaterThan("registration_max_error_px", max_error_px, 0);
+  CheckAtLeast("registration.refinement_gate_factor", refinement_gate_factor, 1);
+  CheckAtLeast("registration.pnp_max_iterations", pnp_max_iterations, 1);
+  CheckInRange("registration.pnp_confidence", pnp_confidence, 0, 1);
+  CheckGreaterThan("registration.min_focal_factor", min_focal_factor, 0);
+  CheckGreaterThan("registration.max_focal_factor", max_focal_factor, min_focal_factor);
+  CheckGreaterThan("registration.dlt_min_focal_factor", dlt_min_focal_factor, 0);
+  CheckGreaterThan("registration.dlt_max_focal_factor", dlt_max_focal_factor, dlt_min_focal_factor);
+  CheckGreaterThan("registration.dlt_min_aspect", dlt_min_aspect, 0);
+  CheckGreaterThan("registration.dlt_max_aspect", dlt_max_aspect, dlt_min_aspect);
+  CheckGreaterThan("registration.dlt_max_skew_fraction", dlt_max_skew_fraction, 0);
+  CheckGreaterThan("registration.dlt_max_principal_point_offset", dlt_max_principal_point_offset,
+                   0);
+}
+
+std::vector<Correspondence2D3D> FindCorrespondences2D3D(const CorrespondenceGraph& graph,
+                                                        const Reconstruction& rec,
+                                                        image_t image_id) {
+  const Image& image = rec.image(image_id);
+  std::vector<Correspondence2D3D> corrs;
+  for (point2D_t idx = 0; idx < image.points2D.size(); ++idx) {
+    for (const auto& corr : graph.CorrespondencesOf(image_id, idx)) {
+      const Image& other = rec.image(corr.image_id);
+      if (!other.registered) continue;
+      const point3D_t pid = other.points2D[corr.point2D_idx].point3D_id;
+      if (pid == kInvalidPoint3DId) continue;
+      corrs.push_back({idx, pid});
+      break;
+    }
+  }
+  return corrs;
+}
+
+namespace {
+
+// Whether a K from the DLT decomposition is physically plausible for this image.
+bool PlausibleCalibration(const ImageRegistrationOptions& o, const Eigen::Matrix3d& K,
+                          const Camera& camera) {
+  const double size = std::max(camera.width, camera.height);
+  const double f = K(0, 0);
+  const double aspect = K(1, 1) / K(0, 0);
+  const Eigen::Vector2d pp(K(0, 2), K(1, 2));
+  const Eigen::Vector2d centre(camera.width / 2.0, camera.height / 2.0);
+  return f > o.dlt_min_focal_factor * size && f < o.dlt_max_focal_factor * size &&
+         aspect > o.dlt_min_aspect && aspect < o.dlt_max_aspect &&
+         std::abs(K(0, 1)) < o.dlt_max_skew_fraction * f &&
+         (pp - centre).norm() < o.dlt_max_principal_point_offset * size;
+}
+
+// Inlier count of a pose+camera on the 2D-3D correspondences.
+size_t CountInliers(const Camera& camera, const Rigid3d& pose,
+                    const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Vector3d>& X,
+                    double max_error) {
+  size_t n = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    if (ReprojectionError(camera, pose, x[i], X[i]) <= max_error) ++n;
+  return n;
+}
+
+struct Hypothesis {
+  Camera camera;
+  Rigid3d pose;
+  size_t inliers = 0;
+};
+
+// What the hypotheses of one image are made from and refined with.
+struct RegistrationProblem {
+  const ImageRegistrationOptions& options;
+  const IntrinsicsPolicy& intrinsics;
+  image_t image_id;
+  uint64_t seed;
+  std::vector<Eigen::Vector2d> x;  // the correspondences' 2D points
+  std::vector<Eigen::Vector3d> X;  // and their 3D points
+  Camera camera;                   // the image's camera as it is
+  // The camera of the registered image this one shares most points with: the starting value
+  // when the DLT's K is implausible (zoom changes slowly along a capture).
+  Camera neighbour_camera;
+  bool camera_registered;  // a registered image uses the camera: its intrinsics are held
+  AbsolutePoseRefinementOptions refine;
+};
+
+// Refines `h` on the correspondences near it and scores it on all; appends it when refined.
+void RefineAndScore(const RegistrationProblem& p, Hypothesis h, std::vector<Hypothesis>* out) {
+  std::vector<Eigen::Vector2d> xi;
+  std::vector<Eigen::Vector3d> Xi;
+  for (size_t i = 0; i < p.x.size(); ++i)
+    if (ReprojectionError(h.camera, h.pose, p.x[i], p.X[i]) <=
+        p.options.refinement_gate_factor * p.options.max_error_px) {
+      xi.push_back(p.x[i]);
+      Xi.push_back(p.X[i]);
+    }
+  // Six points: the most parameters the refinement frees (pose and up to five intrinsics) need
+  // at least as many equations.
+  if (xi.size() < 6 || !RefineAbsolutePose(p.refine, xi, Xi, &h.camera, &h.pose)) return;
+  h.inliers = CountInliers(h.camera, h.pose, p.x, p.X, p.options.max_error_px);
+  out->push_back(h);
+}
+
+// (a) The paper: RANSAC + DLT projection matrix, decomposed into K, R, t (section 4.3).
+void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out) {
+  RansacOptions ransac;
+  ransac.max_error = p.options.max_error_px;
+  ransac.seed = DeriveSeed(p.seed, p.image_id);
+  const auto p_report = EstimateProjectionMatrix(p.x, p.X, ransac);
+  if (!p_report.success) return;
+  Eigen::Matrix3d K, R;
+  Eigen::Vector3d t;
+  if (!DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) return;
+  Hypothesis h{p.camera_registered ? p.camera : p.neighbour_camera, Rigid3d(R, t), 0};
+  if (!p.camera_registered && PlausibleCalibration(p.options, K, p.camera)) {
+    // Keep the held parameters at their initial values (policy), take the rest from K.
+    Camera from_dlt = p.camera;
+    from_dlt.params[Camera::kK1] = p.neighbour_camera.params[Camera::kK1];
+    from_dlt.params[Camera::kK2] = p.neighbour_camera.params[Camera::kK2];
+    from_dlt.focal() = 0.5 * (K(0, 0) + K(1, 1));
+    if (p.intrinsics.refine_aspect) from_dlt.params[Camera::kAspect] = K(1, 1) / K(0, 0);
+    if (p.intrinsics.refine_skew) from_dlt.params[Camera::kSkew] = K(0, 1);
+    // Parameters shared per image size start from the group's current values.
+    if (p.neighbour_camera.width == p.camera.width && p.neighbour_camera.height == p.camera.height)
+      for (const int i : p.intrinsics.SharedPerSize())
+        from_dlt.params[i] = p.neighbour_camera.params[i];
+    if (p.intrinsics.refine_principal_point) {
+      from_dlt.params[Camera::kU0] = K(0, 2);
+      from_dlt.params[Camera::kV0] = K(1, 2);
+    }
+    h.camera = from_dlt;
+  }
+  RefineAndScore(p, h, out);
+}
+
+// (b) PnP with the neighbour's intrinsics (robust on nearly planar point sets, where the DLT is
+// ill-posed), then the same refinement frees the focal length.
+void AddPnpHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out) {
+  const Camera start = p.camera_registered ? p.camera : p.neighbour_camera;
+  std::vector<cv::Point2d> image_points;
+  std::vector<cv::Point3d> object_points;
+  for (size_t i = 0; i < p.x.size(); ++i) {
+    const Eigen::Vector2d n = start.ImageToNormalized(p.x[i]);
+    image_points.emplace_back(n.x(), n.y());
+    object_points.emplace_back(p.X[i].x(), p.X[i].y(), p.X[i].z());
+  }
+  cv::Mat rvec, tvec;
+  cv::setRNGSeed(static_cast<int>(DeriveSeed(p.seed, p.image_id) & 0x7fffffff));
+  if (!cv::solvePnPRansac(object_points, image_points, cv::Mat::eye(3, 3, CV_64F), cv::noArray(),
+                          rvec, tvec, false, p.options.pnp_max_iterations,
+                          p.options.max_error_px / start.focal(), p.options.pnp_confidence,
+                          cv::noArray(), cv::SOLVEPNP_AP3P))
+    return;
+  cv::Mat Rcv;
+  cv::Rodrigues(rvec, Rcv);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  cv::cv2eigen(Rcv, R);
+  cv::cv2eigen(tvec, t);
+  RefineAndScore(p, {start, Rigid3d(R, t), 0}, out);
+}
+
+// The registered image that shares the most 3D points with the correspondences (the most
+// recent registration when none does).
+image_t Neighbour(const Reconstruction& rec, const std::vector<Correspondence2D3D>& corrs,
+                  const std::vector<image_t>& registration_order) {
+  std::map<image_t, size_t> shared_points;
+  for (const auto& c : corrs)
+    for (const auto& el : rec.point3D(c.point3D_id).track) ++shared_points[el.image_id];
+  image_t neighbour = registration_order.back();
+  size_t best = 0;
+  for (const auto& [id, count] : shared_points)
+    if (count > best) best = count, neighbour = id;
+  return neighbour;
+}
+
+}  // namespace
+
+bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOptions& options,
+                   const IntrinsicsPolicy& intrinsics,
+                   const std::vector<image_t>& registration_order, uint64_t seed, image_t image_id,
+                   Reconstruction* rec) {
+  Image& image = rec->image(image_id);
+  const std::vector<Correspondence2D3D> corrs = FindCorrespondences2D3D(graph, *rec, image_id);
+  if (corrs.size() < static_cast<size_t>(std::max(options.min_correspondences, 6))) return false;
+  Camera& camera = rec->CameraOf(image_id);
+  const bool camera_registered =
+      std::any_of(registration_order.begin(), registration_order.end(),
+                  [&](image_t other) { return rec->image(other).camera_id == image.camera_id; });
+  RegistrationProblem problem{
+      .options = options,
+      .intrinsics = intrinsics,
+      .image_id = image_id,
+      .seed = seed,
+      .x = {},
+      .X = {},
+      .camera = camera,
+      .neighbour_camera = rec->CameraOf(Neighbour(*rec, corrs, registration_order)),
+      .camera_registered = camera_registered,
+      .refine = {}};
+  for (const auto& c : corrs) {
+    problem.x.push_back(image.points2D[c.point2D_idx].xy);
+    problem.X.push_back(rec->point3D(c.point3D_id).xyz);
+  }
+  problem.refine.intrinsics = intrinsics.ForRegistration(camera_registered);
+
+  std::vector<Hypothesis> hypotheses;
+  AddDltHypothesis(problem, &hypotheses);
+  AddPnpHypothesis(problem, &hypotheses);
+  if (hypotheses.empty()) return false;
+  // The first of the best: the DLT's on a tie.
+  const Hypothesis& chosen = *std::max_element(
+      hypotheses.begin(), hypotheses.end(),
+      [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
+  if (chosen.inliers < static_cast<size_t>(options.min_inliers)) return false;
+  const double size = std::max(camera.width, camera.height);
+  if (chosen.camera.focal() < options.min_focal_factor * size ||
+      chosen.camera.focal() > options.max_focal_factor * size)
+    return false;
+
+  if (!camera_registered) camera.params = chosen.camera.params;
+  image.cam_from_world = chosen.pose;
+  rec->RegisterImage(image_id);
+  for (size_t i = 0; i < corrs.size(); ++i)
+    if (ReprojectionError(camera, image.cam_from_world, problem.x[i], problem.X[i]) <=
+        options.max_error_px)
+      rec->AddObservation(corrs[i].point3D_id, {image_id, corrs[i].point2D_idx});
+  debug("registered image {} ({}) with {} inliers of {}, f {:.1f}", image_id, image.name,
+        chosen.inliers, corrs.size(), camera.focal());
+  return true;
+}
+
+}  // namespace varsfm
