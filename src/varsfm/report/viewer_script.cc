@@ -1,14 +1,15 @@
 #include "varsfm/report/viewer_script.h"
 
 namespace varsfm {
+namespace {
 
-// Written for three.js r111 (Debian 12's libjs-three) and later releases that still have the
-// classic-script examples: BufferGeometry.setAttribute, THREE.VertexColors, GLTFLoader.parse.
+// The script's text, a constant (data, not code of this program). Written for three.js r111
+// (Debian 12's libjs-three) and later releases that still have the classic-script examples:
+// BufferGeometry.setAttribute, THREE.VertexColors, GLTFLoader.parse.
 // The page's state goes to <html data-viewer="...">: "loading", then "ready" once a frame with
 // everything (the textured model included) has been drawn, or "no-webgl" / "model-error";
 // errors go through varsfmError (the page head), which counts them in data-errors.
-const char* ViewerScript() {
-  return R"JS(
+constexpr const char kViewerScript[] = R"JS(
 (function () {
   'use strict';
   var root = document.documentElement;
@@ -210,6 +211,9 @@ const char* ViewerScript() {
   resize();
 })();
 )JS";
-}
+
+}  // namespace
+
+const char* ViewerScript() { return kViewerScript; }
 
 }  // namespace varsfm
