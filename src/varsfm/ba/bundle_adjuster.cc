@@ -478,6 +478,136 @@ BundleAdjustmentConfig BundleAdjustmentConfig::Local(const Reconstruction& recon
   return config;
 }
 
+namespace {
+
+// An adjustment's problem as RunBundleAdjustment assembles it: its parameters (in `buffer`), the
+// images and points they belong to, and the loss of every residual.
+struct AssembledProblem {
+  const BundleAdjustmentOptions& options;
+  const std::set<image_t>& images;
+  const std::set<point3D_t>& points;
+  const std::set<double*>& used_groups;  // the shared per-size blocks in use
+  size_t num_observations;
+  ParameterBuffer& buffer;
+  ceres::LossFunction* loss;
+};
+
+// Solves `p` with the project's own Schur-complement solver. `for_each_residual(add)` gives every
+// residual with its blocks, `describe_blocks()` every block and how it is held. Returns whether
+// the RMS errors in `result` come from the solver's residuals.
+template <typename ForEachResidual, typename DescribeBlocks>
+bool SolveNatively(const AssembledProblem& p, const ForEachResidual& for_each_residual,
+                   const DescribeBlocks& describe_blocks, const Timer& timer,
+                   BundleAdjustmentSummary* result) {
+  bool rms_from_solver = false;
+  result->solver = "NATIVE_DENSE_SCHUR";
+  // The blocks go to the solver directly (LeastSquaresProblem), the cost functions one after the
+  // other in a deque rather than one heap object each.
+  std::deque<AnalyticReprojectionCost> costs;
+  LeastSquaresProblem problem;
+  problem.Reserve(p.images.size() * 2 + p.points.size(), p.num_observations,
+                  p.num_observations * 3);
+  for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
+                        std::optional<unsigned> shared, double* const* blocks, int count) {
+    costs.emplace_back(xy, kind, shared);
+    problem.AddResidualBlock(&costs.back(), p.loss, blocks, count);
+  });
+  const std::vector<ParameterBlockSpec> specs = describe_blocks();
+  for (const ParameterBlockSpec& spec : specs)
+    problem.AddParameterBlock(spec.x, spec.size, spec.manifold.get(), spec.constant);
+
+  SchurSolverOptions native;
+  native.max_iterations = p.options.max_iterations;
+  native.function_tolerance = p.options.function_tolerance;
+  native.gradient_tolerance = p.options.gradient_tolerance;
+  native.parameter_tolerance = p.options.parameter_tolerance;
+  native.progress_to_stdout = p.options.verbose;
+  if (p.options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg)
+    native.trust_region = SchurSolverOptions::TrustRegion::kDogleg;
+  native.num_threads = p.options.num_threads > 0
+                           ? p.options.num_threads
+                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<double*> points;
+  points.reserve(p.points.size());
+  for (const point3D_t id : p.points) points.push_back(p.buffer.point(id));
+  const SchurSolverSummary summary = SolveWithSchurComplement(native, points, problem);
+  result->success = summary.usable;
+  // The RMS from the solver's own residuals (one per observation): two passes over the
+  // observations less (they took 3 % of a 100-image sequence's mapping).
+  if (summary.usable) {
+    rms_from_solver = true;
+    result->initial_rms_px = std::sqrt(summary.initial_squared_norm / p.num_observations);
+    result->final_rms_px = std::sqrt(summary.final_squared_norm / p.num_observations);
+  }
+  result->iterations = summary.successful_steps + summary.unsuccessful_steps;
+  result->report = fmt::format(
+      "native Schur {} ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
+      "{:.6e}; s: setup {:.4f}, "
+      "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
+      native.trust_region == SchurSolverOptions::TrustRegion::kDogleg ? "dogleg" : "LM",
+      summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
+      summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
+      summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
+      summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise, timer.Seconds());
+  return rms_from_solver;
+}
+
+// Solves `p` with Ceres and the linear solver `solver`.
+template <typename ForEachResidual, typename DescribeBlocks>
+void SolveWithCeres(const AssembledProblem& p, Solver solver,
+                    const ForEachResidual& for_each_residual, const DescribeBlocks& describe_blocks,
+                    BundleAdjustmentSummary* result) {
+  ceres::Solver::Options solver_options;
+  solver_options.minimizer_type = ceres::TRUST_REGION;
+  solver_options.trust_region_strategy_type =
+      p.options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg
+          ? ceres::DOGLEG
+          : ceres::LEVENBERG_MARQUARDT;
+  solver_options.max_num_iterations = p.options.max_iterations;
+  solver_options.function_tolerance = p.options.function_tolerance;
+  solver_options.gradient_tolerance = p.options.gradient_tolerance;
+  solver_options.parameter_tolerance = p.options.parameter_tolerance;
+  // Ceres' multi-threaded sums depend on the scheduling: one thread unless asked for more.
+  solver_options.num_threads = std::max(1, p.options.num_threads);
+  solver_options.minimizer_progress_to_stdout = p.options.verbose;
+  solver_options.logging_type = p.options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
+  result->solver = ConfigureLinearSolver(solver, &solver_options);
+
+  // The problem owns the costs and manifolds, not the loss (`loss` does).
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
+                        std::optional<unsigned> shared, double* const* blocks, int count) {
+    problem.AddResidualBlock(new AnalyticReprojectionCost(xy, kind, shared), p.loss, blocks, count);
+  });
+  for (ParameterBlockSpec& spec : describe_blocks()) {
+    if (spec.constant)
+      problem.SetParameterBlockConstant(spec.x);
+    else if (spec.manifold)
+      problem.SetManifold(spec.x, spec.manifold.release());
+  }
+  // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
+  // orders blocks by address, which the buffer makes the id order.
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (const point3D_t id : p.points) ordering->AddElementToGroup(p.buffer.point(id), 0);
+  for (const image_t id : p.images)
+    if (!p.buffer.HasImageBlock(id)) ordering->AddElementToGroup(p.buffer.pose(id), 1);
+  for (const auto& [id, offset] : p.buffer.cameras())
+    ordering->AddElementToGroup(p.buffer.camera(id), 1);
+  for (double* group : p.used_groups) ordering->AddElementToGroup(group, 1);
+  solver_options.linear_solver_ordering = ordering;
+
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  if (p.options.verbose) std::printf("%s\n", summary.FullReport().c_str());
+  result->success = summary.IsSolutionUsable();
+  result->iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  result->report = summary.BriefReport();
+}
+
+}  // namespace
+
 BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& options,
                                             const BundleAdjustmentConfig& config,
                                             Reconstruction* reconstruction) {
@@ -570,108 +700,14 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   // here, before the parameters move.
   const double initial_rms =
       solver == Solver::kNativeDenseSchur ? 0.0 : RmsError(rec, observations);
-  bool rms_from_solver = false;
-  if (solver == Solver::kNativeDenseSchur) {
-    result.solver = "NATIVE_DENSE_SCHUR";
-    // The blocks go to the solver directly (LeastSquaresProblem), the cost functions one after the
-    // other in a deque rather than one heap object each.
-    std::deque<AnalyticReprojectionCost> costs;
-    LeastSquaresProblem problem;
-    problem.Reserve(problem_images.size() * 2 + problem_points.size(), observations.size(),
-                    observations.size() * 3);
-    for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
-                          std::optional<unsigned> shared, double* const* blocks, int count) {
-      costs.emplace_back(xy, kind, shared);
-      problem.AddResidualBlock(&costs.back(), loss.get(), blocks, count);
-    });
-    const std::vector<ParameterBlockSpec> specs = describe_blocks();
-    for (const ParameterBlockSpec& spec : specs)
-      problem.AddParameterBlock(spec.x, spec.size, spec.manifold.get(), spec.constant);
-
-    SchurSolverOptions native;
-    native.max_iterations = options.max_iterations;
-    native.function_tolerance = options.function_tolerance;
-    native.gradient_tolerance = options.gradient_tolerance;
-    native.parameter_tolerance = options.parameter_tolerance;
-    native.progress_to_stdout = options.verbose;
-    if (options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg)
-      native.trust_region = SchurSolverOptions::TrustRegion::kDogleg;
-    native.num_threads = options.num_threads > 0
-                             ? options.num_threads
-                             : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    std::vector<double*> points;
-    points.reserve(problem_points.size());
-    for (const point3D_t id : problem_points) points.push_back(buffer.point(id));
-    const SchurSolverSummary summary = SolveWithSchurComplement(native, points, problem);
-    result.success = summary.usable;
-    // The RMS from the solver's own residuals (one per observation): two passes over the
-    // observations less (they took 3 % of a 100-image sequence's mapping).
-    if (summary.usable) {
-      rms_from_solver = true;
-      result.initial_rms_px = std::sqrt(summary.initial_squared_norm / observations.size());
-      result.final_rms_px = std::sqrt(summary.final_squared_norm / observations.size());
-    }
-    result.iterations = summary.successful_steps + summary.unsuccessful_steps;
-    result.report = fmt::format(
-        "native Schur {} ({}, {} columns, {:.2f} full): {} ({} + {} steps, cost {:.6e} -> "
-        "{:.6e}; s: setup {:.4f}, "
-        "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
-        native.trust_region == SchurSolverOptions::TrustRegion::kDogleg ? "dogleg" : "LM",
-        summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
-        summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
-        summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
-        summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise,
-        timer.Seconds());
-  } else {
-    ceres::Solver::Options solver_options;
-    solver_options.minimizer_type = ceres::TRUST_REGION;
-    solver_options.trust_region_strategy_type =
-        options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg
-            ? ceres::DOGLEG
-            : ceres::LEVENBERG_MARQUARDT;
-    solver_options.max_num_iterations = options.max_iterations;
-    solver_options.function_tolerance = options.function_tolerance;
-    solver_options.gradient_tolerance = options.gradient_tolerance;
-    solver_options.parameter_tolerance = options.parameter_tolerance;
-    // Ceres' multi-threaded sums depend on the scheduling: one thread unless asked for more.
-    solver_options.num_threads = std::max(1, options.num_threads);
-    solver_options.minimizer_progress_to_stdout = options.verbose;
-    solver_options.logging_type = options.verbose ? ceres::PER_MINIMIZER_ITERATION : ceres::SILENT;
-    result.solver = ConfigureLinearSolver(solver, &solver_options);
-
-    // The problem owns the costs and manifolds, not the loss (`loss` does).
-    ceres::Problem::Options problem_options;
-    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(problem_options);
-    for_each_residual([&](const Eigen::Vector2d& xy, ReprojectionBlocks kind,
-                          std::optional<unsigned> shared, double* const* blocks, int count) {
-      problem.AddResidualBlock(new AnalyticReprojectionCost(xy, kind, shared), loss.get(), blocks,
-                               count);
-    });
-    for (ParameterBlockSpec& spec : describe_blocks()) {
-      if (spec.constant)
-        problem.SetParameterBlockConstant(spec.x);
-      else if (spec.manifold)
-        problem.SetManifold(spec.x, spec.manifold.release());
-    }
-    // Schur ordering: points are eliminated first, then cameras and poses. Within a group Ceres
-    // orders blocks by address, which the buffer makes the id order.
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (const point3D_t id : problem_points) ordering->AddElementToGroup(buffer.point(id), 0);
-    for (const image_t id : problem_images)
-      if (!buffer.HasImageBlock(id)) ordering->AddElementToGroup(buffer.pose(id), 1);
-    for (const auto& [id, offset] : buffer.cameras())
-      ordering->AddElementToGroup(buffer.camera(id), 1);
-    for (double* group : used_groups) ordering->AddElementToGroup(group, 1);
-    solver_options.linear_solver_ordering = ordering;
-
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver_options, &problem, &summary);
-    if (options.verbose) std::printf("%s\n", summary.FullReport().c_str());
-    result.success = summary.IsSolutionUsable();
-    result.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
-    result.report = summary.BriefReport();
-  }
+  const AssembledProblem assembled{options,     problem_images,      problem_points,
+                                   used_groups, observations.size(), buffer,
+                                   loss.get()};
+  const bool rms_from_solver =
+      solver == Solver::kNativeDenseSchur &&
+      SolveNatively(assembled, for_each_residual, describe_blocks, timer, &result);
+  if (solver != Solver::kNativeDenseSchur)
+    SolveWithCeres(assembled, solver, for_each_residual, describe_blocks, &result);
   if (options.verbose && solver == Solver::kNativeDenseSchur)
     std::printf("%s\n", result.report.c_str());
   buffer.CopyTo(config, &rec);
