@@ -1,14 +1,14 @@
 #include "varsfm/io/bundler.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <map>
+#include <ostream>
 
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -26,21 +26,15 @@ double BundlerModelDeviation(const Camera& camera) {
   return std::hypot(p[Camera::kU0] - 0.5 * camera.width, p[Camera::kV0] - 0.5 * camera.height);
 }
 
-// Both writers fill `file`, a temporary; messages name `shown`, the file it becomes.
-void WriteList(const Reconstruction& rec, const fs::path& file, const fs::path& shown) {
-  std::ofstream out(file);
-  if (!out) Fail("{}: cannot open for writing", shown.string());
+void WriteList(const Reconstruction& rec, std::ostream& out) {
   for (const auto& [id, image] : rec.images()) out << image.name << '\n';
-  out.close();
-  if (!out) Fail("{}: write failed", shown.string());
 }
 
-void WriteBundle(const Reconstruction& rec, const fs::path& file, const fs::path& shown) {
+// `file` names the bundle in the warning.
+void WriteBundle(const Reconstruction& rec, std::ostream& out, const fs::path& file) {
   std::map<image_t, int> index;  // image id -> Bundler camera index (0-based, list.txt order)
   for (const auto& [id, image] : rec.images()) index.emplace(id, static_cast<int>(index.size()));
 
-  std::ofstream out(file);
-  if (!out) Fail("{}: cannot open for writing", shown.string());
   out << "# Bundle file v0.3\n" << fmt::format("{} {}\n", index.size(), rec.points3D().size());
   const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
   size_t num_dropped = 0;
@@ -66,7 +60,7 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file, const fs::path
     warn(
         "{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
         "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
-        shown.string(), num_dropped, worst_deviation);
+        file.string(), num_dropped, worst_deviation);
   fmt::memory_buffer buffer;  // one line at a time: see WriteImagesText (colmap_model.cc)
   for (const auto& [id, point] : rec.points3D()) {
     buffer.clear();
@@ -83,35 +77,14 @@ void WriteBundle(const Reconstruction& rec, const fs::path& file, const fs::path
     buffer.push_back('\n');
     out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
   }
-  out.close();
-  if (!out) Fail("{}: write failed", shown.string());
 }
 
 }  // namespace
 
 void WriteBundler(const Reconstruction& rec, const fs::path& bundle_file,
                   const fs::path& list_file) {
-  auto temp_of = [](const fs::path& f) {
-    return f.parent_path() / fmt::format(".{}.tmp-{}", f.filename().string(), ::getpid());
-  };
-  const fs::path bundle_tmp = temp_of(bundle_file), list_tmp = temp_of(list_file);
-  std::error_code ec;
-  try {
-    WriteBundle(rec, bundle_tmp, bundle_file);
-    WriteList(rec, list_tmp, list_file);
-    fs::rename(bundle_tmp, bundle_file);
-    fs::rename(list_tmp, list_file);
-  } catch (const fs::filesystem_error& e) {
-    fs::remove(bundle_tmp, ec);
-    fs::remove(list_tmp, ec);
-    // A rename's path2 is the final file; path1 its temporary, which the user never sees.
-    const fs::path& file = e.path2().empty() ? e.path1() : e.path2();
-    Fail("{}: cannot write: {}", file.string(), e.code().message());
-  } catch (...) {
-    fs::remove(bundle_tmp, ec);
-    fs::remove(list_tmp, ec);
-    throw;
-  }
+  WriteFileAtomically(bundle_file, [&](std::ostream& out) { WriteBundle(rec, out, bundle_file); });
+  WriteFileAtomically(list_file, [&](std::ostream& out) { WriteList(rec, out); });
 }
 
 }  // namespace varsfm

@@ -13,8 +13,8 @@
 
 namespace varsfm {
 
-// Writes `bundle_file` (bundle.out) and `list_file` (list.txt). Both are written to temporary
-// files beside them first and renamed only when both are complete. Every image is listed, in id
+// Writes `bundle_file` (bundle.out) and `list_file` (list.txt), each atomically (a temporary file
+// beside it, renamed onto it once complete: util/atomic_file.h). Every image is listed, in id
 // order; an unregistered image gets Bundler's empty camera (all zeros). The keypoint index in
 // the view lists is the 2D point index in the image. Throws varsfm::Error.
 void WriteBundler(const Reconstruction& reconstruction, const std::filesystem::path& bundle_file,

@@ -1,21 +1,19 @@
 #include "varsfm/io/colmap_model.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <bit>
 #include <cstdint>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 #include "varsfm/util/log.h"
 
 namespace varsfm {
@@ -48,21 +46,9 @@ size_t ColmapNumParams(int model_id) {
   }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Binary primitives. COLMAP's files are little-endian whatever the host.
-
-template <typename T>
-void Put(std::ostream& out, T value) {
-  if constexpr (std::endian::native == std::endian::big) {
-    auto* bytes = reinterpret_cast<char*>(&value);
-    std::reverse(bytes, bytes + sizeof(T));
-  }
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-// A binary COLMAP file being read, with the count of bytes left in it, so that a record count
-// read from the file is checked against what the file can hold before anything is sized from it
-// (a corrupt count of 2^40 points would otherwise allocate terabytes).
+// A binary COLMAP file (little-endian whatever the host) being read, with the count of bytes left
+// in it, so that a record count read from the file is checked against what the file can hold before
+// anything is sized from it (a corrupt count of 2^40 points would otherwise allocate terabytes).
 class BinaryFile {
  public:
   explicit BinaryFile(const fs::path& file) : file_(file), in_(file, std::ios::binary) {
@@ -74,15 +60,11 @@ class BinaryFile {
 
   template <typename T>
   T Get() {
-    T value;
-    if (left_ < sizeof(T) || !in_.read(reinterpret_cast<char*>(&value), sizeof(T)))
+    char bytes[sizeof(T)];
+    if (left_ < sizeof(T) || !in_.read(bytes, sizeof(T)))
       Fail("{}: truncated binary COLMAP file", file_.string());
     left_ -= sizeof(T);
-    if constexpr (std::endian::native == std::endian::big) {
-      auto* bytes = reinterpret_cast<char*>(&value);
-      std::reverse(bytes, bytes + sizeof(T));
-    }
-    return value;
+    return GetLittleEndian<T>(bytes);
   }
 
   // A NUL-terminated string.
@@ -166,14 +148,14 @@ void WriteCamerasText(const Reconstruction& rec, const fs::path& file, int force
 
 void WriteCamerasBinary(const Reconstruction& rec, const fs::path& file, int force_model_id) {
   std::ofstream out = OpenForWrite(file, true);
-  Put<uint64_t>(out, rec.cameras().size());
+  PutLittleEndian<uint64_t>(out, rec.cameras().size());
   for (const auto& [id, camera] : rec.cameras()) {
     const CameraRecord r = ToRecord(camera, force_model_id);
-    Put<uint32_t>(out, id);
-    Put<int32_t>(out, r.model_id);
-    Put<uint64_t>(out, static_cast<uint64_t>(camera.width));
-    Put<uint64_t>(out, static_cast<uint64_t>(camera.height));
-    for (double p : r.params) Put<double>(out, p);
+    PutLittleEndian<uint32_t>(out, id);
+    PutLittleEndian<int32_t>(out, r.model_id);
+    PutLittleEndian<uint64_t>(out, static_cast<uint64_t>(camera.width));
+    PutLittleEndian<uint64_t>(out, static_cast<uint64_t>(camera.height));
+    for (double p : r.params) PutLittleEndian<double>(out, p);
   }
   CloseChecked(out, file);
 }
@@ -215,19 +197,21 @@ void WriteImagesText(const Reconstruction& rec, const fs::path& file) {
 void WriteImagesBinary(const Reconstruction& rec, const fs::path& file) {
   const auto images = RegisteredImages(rec);
   std::ofstream out = OpenForWrite(file, true);
-  Put<uint64_t>(out, images.size());
+  PutLittleEndian<uint64_t>(out, images.size());
   for (const Image* image : images) {
     const Eigen::Quaterniond q = image->cam_from_world.rotation.normalized();
     const Eigen::Vector3d& t = image->cam_from_world.translation;
-    Put<uint32_t>(out, image->image_id);
-    for (double v : {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()}) Put<double>(out, v);
-    Put<uint32_t>(out, image->camera_id);
+    PutLittleEndian<uint32_t>(out, image->image_id);
+    for (double v : {q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z()})
+      PutLittleEndian<double>(out, v);
+    PutLittleEndian<uint32_t>(out, image->camera_id);
     out.write(image->name.c_str(), static_cast<std::streamsize>(image->name.size() + 1));
-    Put<uint64_t>(out, image->points2D.size());
+    PutLittleEndian<uint64_t>(out, image->points2D.size());
     for (const Point2D& p : image->points2D) {
-      Put<double>(out, p.xy.x());
-      Put<double>(out, p.xy.y());
-      Put<uint64_t>(out, p.point3D_id);  // kInvalidPoint3DId is COLMAP's invalid id, 2^64 - 1
+      PutLittleEndian<double>(out, p.xy.x());
+      PutLittleEndian<double>(out, p.xy.y());
+      PutLittleEndian<uint64_t>(
+          out, p.point3D_id);  // kInvalidPoint3DId is COLMAP's invalid id, 2^64 - 1
     }
   }
   CloseChecked(out, file);
@@ -255,16 +239,16 @@ void WritePointsText(const Reconstruction& rec, const fs::path& file) {
 
 void WritePointsBinary(const Reconstruction& rec, const fs::path& file) {
   std::ofstream out = OpenForWrite(file, true);
-  Put<uint64_t>(out, rec.points3D().size());
+  PutLittleEndian<uint64_t>(out, rec.points3D().size());
   for (const auto& [id, point] : rec.points3D()) {
-    Put<uint64_t>(out, id);
-    for (int k = 0; k < 3; ++k) Put<double>(out, point.xyz[k]);
-    for (int k = 0; k < 3; ++k) Put<uint8_t>(out, point.color[k]);
-    Put<double>(out, point.error);
-    Put<uint64_t>(out, point.track.size());
+    PutLittleEndian<uint64_t>(out, id);
+    for (int k = 0; k < 3; ++k) PutLittleEndian<double>(out, point.xyz[k]);
+    for (int k = 0; k < 3; ++k) PutLittleEndian<uint8_t>(out, point.color[k]);
+    PutLittleEndian<double>(out, point.error);
+    PutLittleEndian<uint64_t>(out, point.track.size());
     for (const TrackElement& el : point.track) {
-      Put<uint32_t>(out, el.image_id);
-      Put<uint32_t>(out, el.point2D_idx);
+      PutLittleEndian<uint32_t>(out, el.image_id);
+      PutLittleEndian<uint32_t>(out, el.point2D_idx);
     }
   }
   CloseChecked(out, file);
@@ -482,42 +466,6 @@ void WriteAll(const Reconstruction& rec, const fs::path& dir, const ColmapWriteO
 }
 
 }  // namespace
-
-void WriteFilesAtomically(const fs::path& dir, const std::vector<std::string>& names,
-                          const std::function<void(const fs::path&)>& write) {
-  static std::atomic<int> counter{0};
-  try {
-    // A trailing slash gives an empty filename; normalise so the sibling name is right.
-    fs::path target = fs::absolute(dir).lexically_normal();
-    if (target.filename().empty()) target = target.parent_path();
-    fs::create_directories(target.parent_path());
-    const fs::path tmp =
-        target.parent_path() /
-        fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter++);
-    fs::remove_all(tmp);
-    fs::create_directory(tmp);
-    try {
-      write(tmp);
-      for (const auto& name : names)
-        if (!fs::is_regular_file(tmp / name)) Fail("{}: was not written", (dir / name).string());
-      if (!fs::exists(target)) {
-        fs::rename(tmp, target);  // the whole folder appears at once
-        return;
-      }
-      if (!fs::is_directory(target)) Fail("{}: exists and is not a folder", target.string());
-      // An existing folder may hold other files (another model format, logs): replace only
-      // ours, each by an atomic rename of a complete file.
-      for (const auto& name : names) fs::rename(tmp / name, target / name);
-      fs::remove_all(tmp);
-    } catch (...) {
-      std::error_code ec;
-      fs::remove_all(tmp, ec);
-      throw;
-    }
-  } catch (const fs::filesystem_error& e) {
-    Fail("{}: cannot write: {}", dir.string(), e.code().message());
-  }
-}
 
 void WriteColmapModel(const Reconstruction& rec, const fs::path& dir,
                       const ColmapWriteOptions& options) {

@@ -6,7 +6,6 @@
 // Only registered images are written, as COLMAP does; every camera is written. varsfm already
 // uses COLMAP's pixel convention and world-to-camera poses, so nothing is shifted or inverted.
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,12 +39,5 @@ std::filesystem::path ResolveColmapModelFolder(const std::filesystem::path& path
 // varsfm::Error naming the file for a missing/truncated file, a bad line or a camera model varsfm
 // cannot represent.
 Reconstruction ReadColmapModel(const std::filesystem::path& dir);
-
-// The atomic write used for every exported model folder: `write` fills a temporary folder
-// beside `dir` with the files `names`; only when all exist are they moved into `dir` (the
-// folder is renamed as a whole when `dir` does not exist yet, else file by file, leaving other
-// files in `dir` alone). The temporary folder is removed on failure. Throws varsfm::Error.
-void WriteFilesAtomically(const std::filesystem::path& dir, const std::vector<std::string>& names,
-                          const std::function<void(const std::filesystem::path&)>& write);
 
 }  // namespace varsfm

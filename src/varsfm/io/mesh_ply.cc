@@ -3,21 +3,17 @@
 #include <cstdint>
 #include <fstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "varsfm/io/ply_format.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 
 namespace varsfm {
 namespace {
 
 namespace fs = std::filesystem;
-
-template <typename T>
-void Put(std::ofstream& out, T value) {
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
 
 // Position of the property called `name` in `element`, -1 when it has none.
 int PropertyIndex(const ply::Element& element, const std::string& name) {
@@ -44,11 +40,7 @@ void WriteMeshPly(const std::filesystem::path& file, const TriangleMesh& mesh) {
   for (const Eigen::Vector3i& f : mesh.faces) {
     if (f.minCoeff() < 0 || f.maxCoeff() >= n) Fail("{}: face index out of range", file.string());
   }
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) Fail("{}: cannot write", file.string());
+  WriteFileAtomically(file, [&](std::ostream& out) {
     out << "ply\nformat binary_little_endian 1.0\ncomment varsfm mesh\n"
         << "element vertex " << mesh.vertices.size() << "\n"
         << "property float x\nproperty float y\nproperty float z\n";
@@ -56,20 +48,16 @@ void WriteMeshPly(const std::filesystem::path& file, const TriangleMesh& mesh) {
     out << "element face " << mesh.faces.size() << "\n"
         << "property list uchar int vertex_indices\nend_header\n";
     for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-      for (int k = 0; k < 3; ++k) Put(out, static_cast<float>(mesh.vertices[i][k]));
+      for (int k = 0; k < 3; ++k) PutLittleEndian(out, static_cast<float>(mesh.vertices[i][k]));
       if (has_colors) {
-        for (int k = 0; k < 3; ++k) Put(out, mesh.colors[i][k]);
+        for (int k = 0; k < 3; ++k) PutLittleEndian(out, mesh.colors[i][k]);
       }
     }
     for (const Eigen::Vector3i& f : mesh.faces) {
-      Put(out, static_cast<uint8_t>(3));
-      for (int k = 0; k < 3; ++k) Put(out, static_cast<int32_t>(f[k]));
+      PutLittleEndian(out, static_cast<uint8_t>(3));
+      for (int k = 0; k < 3; ++k) PutLittleEndian(out, static_cast<int32_t>(f[k]));
     }
-    if (!out.flush()) Fail("{}: write failed", file.string());
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) Fail("{}: cannot write ({})", file.string(), ec.message());
+  });
 }
 
 // The PLY grammar (header, types, ascii/binary records) is io/ply_format's; this only maps the

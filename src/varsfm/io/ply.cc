@@ -1,32 +1,20 @@
 #include "varsfm/io/ply.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <bit>
 #include <fstream>
 #include <map>
 #include <string>
 
 #include "varsfm/io/ply_format.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 
 namespace varsfm {
-namespace {
 
 namespace fs = std::filesystem;
-
-template <typename T>
-void Put(std::ostream& out, T value) {
-  if constexpr (std::endian::native == std::endian::big) {
-    auto* bytes = reinterpret_cast<char*>(&value);
-    std::reverse(bytes, bytes + sizeof(T));
-  }
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-}  // namespace
 
 PointCloud SparsePointCloud(const Reconstruction& reconstruction) {
   PointCloud cloud;
@@ -43,11 +31,7 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
     Fail("{}: {} normals for {} points", file.string(), cloud.normals.size(), n);
   if (cloud.HasColors() && cloud.colors.size() != n)
     Fail("{}: {} colours for {} points", file.string(), cloud.colors.size(), n);
-  const fs::path tmp =
-      file.parent_path() / fmt::format(".{}.tmp-{}", file.filename().string(), ::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) Fail("{}: cannot open for writing", file.string());
+  WriteFileAtomically(file, [&](std::ostream& out) {
     const char* type = options.double_precision ? "double" : "float";
     out << "ply\nformat binary_little_endian 1.0\ncomment written by varsfm\n"
         << fmt::format("element vertex {}\n", n);
@@ -60,30 +44,18 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
     auto put_vector = [&](const Eigen::Vector3d& v) {
       for (int k = 0; k < 3; ++k) {
         if (options.double_precision)
-          Put<double>(out, v[k]);
+          PutLittleEndian<double>(out, v[k]);
         else
-          Put<float>(out, static_cast<float>(v[k]));
+          PutLittleEndian<float>(out, static_cast<float>(v[k]));
       }
     };
     for (size_t i = 0; i < n; ++i) {
       put_vector(cloud.points[i]);
       if (cloud.HasNormals()) put_vector(cloud.normals[i]);
       if (cloud.HasColors())
-        for (int k = 0; k < 3; ++k) Put<uint8_t>(out, cloud.colors[i][k]);
+        for (int k = 0; k < 3; ++k) PutLittleEndian<uint8_t>(out, cloud.colors[i][k]);
     }
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      Fail("{}: write failed (disk full?)", file.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    Fail("{}: cannot write: {}", file.string(), ec.message());
-  }
+  });
 }
 
 void WritePly(const Reconstruction& reconstruction, const fs::path& file,

@@ -1,28 +1,19 @@
 #include "varsfm/io/ply_format.h"
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <map>
 #include <sstream>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 
 namespace varsfm::ply {
 namespace {
 
 // `bytes` (little-endian, as PLY's binary format stores them) as a double.
 double Decode(const char* bytes, const std::string& type) {
-  auto as = [&]<typename T>(T) {
-    T value;
-    std::memcpy(&value, bytes, sizeof(T));
-    if constexpr (std::endian::native == std::endian::big) {
-      auto* b = reinterpret_cast<char*>(&value);
-      std::reverse(b, b + sizeof(T));
-    }
-    return static_cast<double>(value);
-  };
+  auto as = [&]<typename T>(T) { return static_cast<double>(GetLittleEndian<T>(bytes)); };
   if (type == "char" || type == "int8") return as(int8_t{});
   if (type == "uchar" || type == "uint8") return as(uint8_t{});
   if (type == "short" || type == "int16") return as(int16_t{});

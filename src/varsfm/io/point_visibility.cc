@@ -1,56 +1,33 @@
 #include "varsfm/io/point_visibility.h"
 
-#include <unistd.h>
-
 #include <cstdint>
 #include <fstream>
 
-#include <fmt/format.h>
-
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 
 namespace varsfm {
 namespace fs = std::filesystem;
 namespace {
 
 template <typename T>
-void Put(std::ofstream& out, T value) {
-  out.write(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
-template <typename T>
 T Get(std::ifstream& in, const fs::path& file) {
-  T value;
-  if (!in.read(reinterpret_cast<char*>(&value), sizeof(T))) Fail("{}: truncated", file.string());
-  return value;
+  char bytes[sizeof(T)];
+  if (!in.read(bytes, sizeof(T))) Fail("{}: truncated", file.string());
+  return GetLittleEndian<T>(bytes);
 }
 
 }  // namespace
 
 void WritePointVisibility(const fs::path& file, const PointVisibility& visibility) {
-  const fs::path tmp =
-      file.parent_path() / fmt::format(".{}.tmp-{}", file.filename().string(), ::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) Fail("{}: cannot open for writing", file.string());
-    Put<uint64_t>(out, visibility.size());
+  WriteFileAtomically(file, [&](std::ostream& out) {
+    PutLittleEndian<uint64_t>(out, visibility.size());
     for (const auto& ids : visibility) {
-      Put<uint32_t>(out, static_cast<uint32_t>(ids.size()));
-      for (image_t id : ids) Put<uint32_t>(out, static_cast<uint32_t>(id));
+      PutLittleEndian<uint32_t>(out, static_cast<uint32_t>(ids.size()));
+      for (image_t id : ids) PutLittleEndian<uint32_t>(out, static_cast<uint32_t>(id));
     }
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      Fail("{}: write failed (disk full?)", file.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    Fail("{}: cannot write: {}", file.string(), ec.message());
-  }
+  });
 }
 
 PointVisibility ReadPointVisibility(const fs::path& file) {

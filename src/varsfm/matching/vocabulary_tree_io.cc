@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -58,16 +59,9 @@ void WriteVocabularyTree(const VocabularyTree& tree, const std::filesystem::path
   bytes.append(reinterpret_cast<const char*>(centres.data()),
                static_cast<size_t>(centres.size()) * sizeof(float));
   Put<uint64_t>(bytes, Fnv1a(bytes.data(), bytes.size()));
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+  WriteFileAtomically(path, [&](std::ostream& out) {
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) Fail("cannot write the vocabulary tree {}", temporary.string());
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) Fail("cannot write the vocabulary tree {}: {}", path.string(), error.message());
+  });
 }
 
 VocabularyTree ReadVocabularyTree(const std::filesystem::path& path) {

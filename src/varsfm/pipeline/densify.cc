@@ -1,14 +1,13 @@
 #include "varsfm/pipeline/densify.h"
 
-#include <fstream>
-
 #include <nlohmann/json.hpp>
 
-#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/scene/holdout.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -47,9 +46,7 @@ void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult&
         {"median_distance_to_nearest_sparse_point", r.quality.median_nearest},
         {"median_distance_to_local_sparse_plane", r.quality.median_plane},
         {"fraction_within_1_percent_of_depth", r.quality.fraction_within_1pc}}}};
-  std::ofstream out(file);
-  out << summary.dump(2) << "\n";
-  if (!out) Fail("cannot write {}", file.string());
+  WriteFileAtomically(file, [&](std::ostream& out) { out << summary.dump(2) << "\n"; });
 }
 
 }  // namespace
@@ -75,16 +72,7 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
     Fail("sparse model {} has {} registered images; densify needs at least 2",
          options.sparse.string(), rec.NumRegisteredImages());
 
-  const auto load = [&](image_t id) {
-    const Image& image = rec.image(id);
-    const std::filesystem::path file = options.image_dir / image.name;
-    cv::Mat pixels = ReadImagePixels(file, ColorMode::kColor);  // EXIF orientation applied
-    const Camera& camera = rec.CameraOf(id);
-    if (pixels.cols != camera.width || pixels.rows != camera.height)
-      Fail("image {} is {}x{} but its camera is {}x{}", file.string(), pixels.cols, pixels.rows,
-           camera.width, camera.height);
-    return pixels;
-  };
+  const auto load = [&](image_t id) { return ReadModelPhoto(rec, id, options.image_dir); };
   DensifyCommandResult result;
   result.method = options.dense.method;
   PointVisibility visibility;

@@ -1,7 +1,6 @@
 #include "varsfm/pipeline/evaluate.h"
 
 #include <algorithm>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -9,6 +8,7 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/pipeline/render.h"
 #include "varsfm/scene/holdout.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -18,15 +18,7 @@ namespace varsfm {
 namespace {
 
 void WriteJson(const std::filesystem::path& path, const nlohmann::json& json) {
-  const auto tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << json.dump(2) << '\n';
-    if (!out) Fail("{}: cannot write", path.string());
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) Fail("{}: cannot write: {}", path.string(), ec.message());
+  WriteFileAtomically(path, [&](std::ostream& out) { out << json.dump(2) << '\n'; });
   info("wrote {}", path.string());
 }
 
@@ -65,18 +57,7 @@ EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
   const GroundTruth ground_truth = ReadStrechaGroundTruth(options.gt_dir);
   EvaluationReport report =
       EvaluateAgainstGroundTruth(reconstruction, ground_truth, options.evaluation);
-  if (!options.json_path.empty()) {
-    const auto tmp = options.json_path.string() + ".tmp";
-    {
-      std::ofstream out(tmp);
-      out << ToJson(report).dump(2) << '\n';
-      if (!out) Fail("{}: cannot write", options.json_path.string());
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, options.json_path, ec);
-    if (ec) Fail("{}: cannot write: {}", options.json_path.string(), ec.message());
-    info("wrote {}", options.json_path.string());
-  }
+  if (!options.json_path.empty()) WriteJson(options.json_path, ToJson(report));
   return report;
 }
 

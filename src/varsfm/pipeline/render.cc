@@ -7,6 +7,7 @@
 
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/io/model_photo.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/model_texture.h"
 #include "varsfm/texture/obj_io.h"

@@ -1,9 +1,8 @@
 #include "varsfm/report/report.h"
 
-#include <fstream>
-
 #include "varsfm/report/html_report.h"
 #include "varsfm/report/three_js.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -34,23 +33,9 @@ ReportResult WriteReport(const ReportOptions& options) {
   result.file = options.output / "report.html";
   result.bytes = html.size();
   result.has_3d_view = three.has_value();
-  const std::filesystem::path temporary = options.output / ".report.html.tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary);
+  WriteFileAtomically(result.file, [&](std::ostream& out) {
     out.write(html.data(), static_cast<std::streamsize>(html.size()));
-    out.close();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      Fail("cannot write {}", temporary.string());
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, result.file, error);
-  if (error) {
-    std::filesystem::remove(temporary, error);
-    Fail("cannot write {}", result.file.string());
-  }
+  });
   return result;
 }
 

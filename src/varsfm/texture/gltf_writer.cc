@@ -2,11 +2,11 @@
 
 #include <cstring>
 #include <map>
-#include <system_error>
 
 #include <tiny_gltf.h>
 
 #include "varsfm/image/png_codec.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -139,16 +139,13 @@ void WriteGlb(const std::filesystem::path& file, const TexturedMesh& mesh) {
   model.scenes.push_back(scene);
   model.defaultScene = 0;
 
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&model, tmp.string(), /*embedImages=*/true,
-                                   /*embedBuffers=*/true, /*prettyPrint=*/false,
-                                   /*writeBinary=*/true))
-    Fail("{}: cannot write", file.string());
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) Fail("{}: cannot write ({})", file.string(), ec.message());
+  WriteFileViaTemporary(file, [&](const std::filesystem::path& tmp) {
+    tinygltf::TinyGLTF writer;
+    if (!writer.WriteGltfSceneToFile(&model, tmp.string(), /*embedImages=*/true,
+                                     /*embedBuffers=*/true, /*prettyPrint=*/false,
+                                     /*writeBinary=*/true))
+      Fail("{}: cannot write", file.string());
+  });
 }
 
 }  // namespace varsfm

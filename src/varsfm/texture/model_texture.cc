@@ -1,6 +1,6 @@
 #include "varsfm/texture/model_texture.h"
 
-#include "varsfm/image/image_file.h"
+#include "varsfm/io/model_photo.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -14,17 +14,6 @@ std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
     image_ids->push_back(id);
   }
   return views;
-}
-
-cv::Mat ReadModelPhoto(const Reconstruction& reconstruction, image_t image_id,
-                       const std::filesystem::path& image_dir) {
-  const std::filesystem::path file = image_dir / reconstruction.image(image_id).name;
-  cv::Mat pixels = ReadImagePixels(file, ColorMode::kColor);  // EXIF orientation applied
-  const Camera& camera = reconstruction.CameraOf(image_id);
-  if (pixels.cols != camera.width || pixels.rows != camera.height)
-    Fail("image {} is {}x{} but its camera is {}x{}", file.string(), pixels.cols, pixels.rows,
-         camera.width, camera.height);
-  return pixels;
 }
 
 TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,

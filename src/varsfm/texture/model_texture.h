@@ -17,11 +17,6 @@ namespace varsfm {
 std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
                                          std::vector<image_t>* image_ids);
 
-// Reads a model's photo (BGR), checking that it exists and has its camera's size. Throws
-// varsfm::Error naming the file.
-cv::Mat ReadModelPhoto(const Reconstruction& reconstruction, image_t image_id,
-                       const std::filesystem::path& image_dir);
-
 // Throws varsfm::Error (one line) for a model without registered images, an empty mesh, or a
 // missing / wrongly sized photo.
 TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,

@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "varsfm/image/image_file.h"
-#include "varsfm/io/colmap_model.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {

@@ -1,0 +1,34 @@
+#pragma once
+// Writing files so that they appear complete or not at all: the content goes to a hidden
+// temporary beside the target, which is renamed onto it only once it is fully written. A run
+// that fails or is killed mid-write never leaves a truncated file that a later stage, a viewer
+// or another tool would read as valid.
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace varsfm {
+
+// Opens a temporary sibling of `file` (binary), calls `write` with it, closes it and renames it
+// onto `file`. Throws varsfm::Error naming `file` when the temporary cannot be opened, a write
+// failed (the stream's state once `write` returns: disk full, ...) or the rename fails; the
+// temporary is removed on any failure, and an exception from `write` is rethrown.
+void WriteFileAtomically(const std::filesystem::path& file,
+                         const std::function<void(std::ostream& out)>& write);
+
+// The same for writers that open the file themselves (TinyGLTF, image encoders): `write` is
+// given the temporary's path and must create that file or throw.
+void WriteFileViaTemporary(const std::filesystem::path& file,
+                           const std::function<void(const std::filesystem::path&)>& write);
+
+// A folder of files written together (a model's cameras/images/points, an OBJ with its
+// material and textures): `write` fills a temporary folder beside `dir` with the files `names`;
+// only when all exist are they moved into `dir` (the folder is renamed as a whole when `dir`
+// does not exist yet, else file by file, leaving other files in `dir` alone). The temporary
+// folder is removed on failure. Throws varsfm::Error.
+void WriteFilesAtomically(const std::filesystem::path& dir, const std::vector<std::string>& names,
+                          const std::function<void(const std::filesystem::path&)>& write);
+
+}  // namespace varsfm
