@@ -138,7 +138,7 @@ TEST(Exif, CorruptResolutionUnitIsNoUnit) {
   EXPECT_FALSE(ExifFocalLengthPixels(jpeg.data(), jpeg.size(), 160, 120).has_value());
 }
 
-TEST(ReadImage, AppliesExifOrientationAndReadsFocal) {
+TEST(ReadPhoto, AppliesExifOrientationAndReadsFocal) {
   testing::TempDir dir("exif_orientation");
   ExifWriter exif;
   exif.Short(EXIF_IFD_0, EXIF_TAG_ORIENTATION, 6);  // stored sideways: rotate 90 degrees
@@ -146,7 +146,7 @@ TEST(ReadImage, AppliesExifOrientationAndReadsFocal) {
   const fs::path path =
       WriteFile(dir.path() / "rotated.jpg", exif.Insert(EncodedTestImage(160, 120)));
   for (const ColorMode mode : {ColorMode::kColor, ColorMode::kGray}) {
-    const Image image = ReadImage(path, mode);
+    const Photo image = ReadPhoto(path, mode);
     EXPECT_EQ(image.width(), 120);
     EXPECT_EQ(image.height(), 160);
     ASSERT_TRUE(image.exif_focal_px.has_value());
@@ -155,12 +155,12 @@ TEST(ReadImage, AppliesExifOrientationAndReadsFocal) {
 }
 
 // Real camera EXIF: the Sceaux photographs (Kodak) against their calibrated focal length.
-TEST(ReadImage, ExifFocalOfRealPhotographsIsCloseToTheCalibration) {
+TEST(ReadPhoto, ExifFocalOfRealPhotographsIsCloseToTheCalibration) {
   VARSFM_REQUIRE_SHARED_DATA(photo, "sceaux/images/100_7100.JPG");
   VARSFM_REQUIRE_SHARED_DATA(k_file, "sceaux/K.txt");
   double calibrated = 0;
   std::ifstream(k_file) >> calibrated;
-  const Image image = ReadImage(photo, ColorMode::kGray);
+  const Photo image = ReadPhoto(photo, ColorMode::kGray);
   ASSERT_TRUE(image.exif_focal_px.has_value());
   // EXIF focal lengths are nominal (rounded, before focus breathing): within 10 %.
   EXPECT_NEAR(*image.exif_focal_px / calibrated, 1.0, 0.10) << *image.exif_focal_px;

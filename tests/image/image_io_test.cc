@@ -75,62 +75,62 @@ TEST(ListImages, LinksToPhotosOfTheSetLoopsAndBrokenLinksAreSkipped) {
   EXPECT_EQ(ListImages(images), expected);
 }
 
-TEST(ReadImage, ReadsEveryFormatInGreyAndColour) {
+TEST(ReadPhoto, ReadsEveryFormatInGreyAndColour) {
   testing::TempDir dir("read_formats");
   const cv::Mat original = RandomImage(64, 48);
   for (const char* name : {"a.jpg", "a.png", "a.tif", "a.bmp"}) {
     SCOPED_TRACE(name);
     WriteImage(dir.path() / name, original);
-    const Image color = ReadImage(dir.path() / name, ColorMode::kColor);
+    const Photo color = ReadPhoto(dir.path() / name, ColorMode::kColor);
     EXPECT_EQ(color.width(), 64);
     EXPECT_EQ(color.height(), 48);
     EXPECT_EQ(color.pixels.type(), CV_8UC3);
     EXPECT_FALSE(color.exif_focal_px.has_value());
-    const Image gray = ReadImage(dir.path() / name, ColorMode::kGray);
+    const Photo gray = ReadPhoto(dir.path() / name, ColorMode::kGray);
     EXPECT_EQ(gray.pixels.type(), CV_8UC1);
     EXPECT_EQ(gray.pixels.size(), color.pixels.size());
   }
   // Lossless formats come back exactly.
-  const Image png = ReadImage(dir.path() / "a.png", ColorMode::kColor);
+  const Photo png = ReadPhoto(dir.path() / "a.png", ColorMode::kColor);
   EXPECT_EQ(cv::norm(png.pixels, original, cv::NORM_INF), 0.0);
 }
 
-TEST(ReadImage, TextWithAnImageExtensionIsAnErrorNamingTheFile) {
+TEST(ReadPhoto, TextWithAnImageExtensionIsAnErrorNamingTheFile) {
   testing::TempDir dir("read_text");
   const fs::path path = dir.path() / "not_an_image.jpg";
   std::ofstream(path) << "this is text, not a JPEG\n";
   try {
-    ReadImage(path);
+    ReadPhoto(path);
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not_an_image.jpg"), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line";
   }
-  EXPECT_THROW(ReadImage(dir.path() / "absent.png"), Error);
+  EXPECT_THROW(ReadPhoto(dir.path() / "absent.png"), Error);
   WriteBytes(dir.path() / "empty.png", nullptr, 0);
-  EXPECT_THROW(ReadImage(dir.path() / "empty.png"), Error);
+  EXPECT_THROW(ReadPhoto(dir.path() / "empty.png"), Error);
 }
 
-TEST(ReadImage, TruncatedJpegIsAnError) {
+TEST(ReadPhoto, TruncatedJpegIsAnError) {
   testing::TempDir dir("read_truncated");
   const fs::path full = dir.path() / "full.jpg";
   WriteImage(full, RandomImage(200, 150));
   const std::vector<uint8_t> bytes = ReadBytes(full);
   EXPECT_TRUE(IsCompleteJpeg(bytes.data(), bytes.size()));
-  EXPECT_NO_THROW(ReadImage(full));
+  EXPECT_NO_THROW(ReadPhoto(full));
 
   // libjpeg would decode the first half and grey-fill the rest without an error.
   const fs::path half = dir.path() / "half.jpg";
   WriteBytes(half, bytes.data(), bytes.size() / 2);
   EXPECT_FALSE(IsCompleteJpeg(bytes.data(), bytes.size() / 2));
-  EXPECT_THROW(ReadImage(half), Error);
+  EXPECT_THROW(ReadPhoto(half), Error);
   // Cut just before the end-of-image marker.
   EXPECT_FALSE(IsCompleteJpeg(bytes.data(), bytes.size() - 2));
   // Headers only.
   EXPECT_FALSE(IsCompleteJpeg(bytes.data(), 20));
 }
 
-TEST(ReadImage, TruncatedRealPhotographIsAnError) {
+TEST(ReadPhoto, TruncatedRealPhotographIsAnError) {
   VARSFM_REQUIRE_SHARED_DATA(photo, "bundler/kermit/kermit000.jpg");
   const std::vector<uint8_t> bytes = ReadBytes(photo);
   EXPECT_TRUE(IsCompleteJpeg(bytes.data(), bytes.size()));

@@ -4,8 +4,7 @@
 // libpng), giving the same pixels and files as OpenCV's imgcodecs did; every other format (TIFF,
 // BMP, WebP, PNM, ...) goes through the OpenCV I/O plug-in (opencv_io_plugin.h), loaded on
 // first use. This keeps imgcodecs and videoio, and the ~210 shared libraries they pull in (GDAL,
-// GStreamer, FFmpeg, ...), out of every start of the varsfm binary. (Separate from image_io.h,
-// whose varsfm::Image would clash with the scene's in code that includes both.)
+// GStreamer, FFmpeg, ...), out of every start of the varsfm binary.
 #include <cstdint>
 #include <filesystem>
 #include <vector>

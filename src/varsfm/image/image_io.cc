@@ -4,10 +4,10 @@
 
 namespace varsfm {
 
-Image ReadImage(const std::filesystem::path& path, ColorMode mode) {
+Photo ReadPhoto(const std::filesystem::path& path, ColorMode mode) {
   // The bytes are read once and shared by the decoder and the EXIF parser.
   const std::vector<uint8_t> bytes = ReadImageFile(path);
-  Image image;
+  Photo image;
   image.pixels = DecodeImage(path, bytes, mode);
   image.exif_focal_px =
       ExifFocalLengthPixels(bytes.data(), bytes.size(), image.width(), image.height());

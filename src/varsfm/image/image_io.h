@@ -11,7 +11,9 @@
 
 namespace varsfm {
 
-struct Image {
+// A decoded photograph (not to be confused with scene/reconstruction.h's Image, a view of the
+// sparse model).
+struct Photo {
   cv::Mat pixels;                       // 8-bit, 1 (kGray) or 3 (kColor, BGR) channels, upright
   std::optional<double> exif_focal_px;  // see image/exif.h
 
@@ -23,6 +25,6 @@ struct Image {
 // naming the file) when the file cannot be read, is not a decodable image, is a truncated JPEG
 // (which libjpeg would silently grey-fill), or needs the OpenCV I/O plug-in and that cannot be
 // loaded.
-Image ReadImage(const std::filesystem::path& path, ColorMode mode = ColorMode::kColor);
+Photo ReadPhoto(const std::filesystem::path& path, ColorMode mode = ColorMode::kColor);
 
 }  // namespace varsfm

@@ -34,9 +34,9 @@ constexpr double kDefaultFocalFactor = 1.2;
 
 // Reads an image for extraction, or warns (one line naming the file) and returns nothing when
 // it is unreadable or too small to hold useful features.
-std::optional<Image> LoadUsableImage(const fs::path& path, int min_size) {
+std::optional<Photo> LoadUsableImage(const fs::path& path, int min_size) {
   try {
-    Image image = ReadImage(path, ColorMode::kGray);
+    Photo image = ReadPhoto(path, ColorMode::kGray);
     if (std::min(image.width(), image.height()) < min_size) {
       warn("skipping {}: {}x{} pixels is too small (minimum {})", path.string(), image.width(),
            image.height(), min_size);
@@ -49,7 +49,7 @@ std::optional<Image> LoadUsableImage(const fs::path& path, int min_size) {
   }
 }
 
-DbCamera DefaultCamera(const Image& image) {
+DbCamera DefaultCamera(const Photo& image) {
   DbCamera camera;
   camera.model_id = kColmapSimpleRadial;
   camera.width = image.width();
@@ -233,7 +233,7 @@ void RemoveWorkspace(const fs::path& workspace) {
 // Extracts the features of the input's usable images into `db`, skipping those it holds
 // already. If it fails, the images it added are removed again.
 void WriteFeatures(Database& db, const ExtractOptions& options, const InputImages& input,
-                   size_t first_index, std::optional<Image> first_image,
+                   size_t first_index, std::optional<Photo> first_image,
                    const std::vector<bool>& unusable, ExtractSummary& summary) {
   std::vector<DbImage> added;  // image and camera ids written by this run
   ResultSettings record(db);
@@ -252,7 +252,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   const auto extract = [&](size_t index) {
     Extracted out;
     out.index = index;
-    std::optional<Image> image;
+    std::optional<Photo> image;
     if (index == first_index) {
       image = std::move(first_image);
     } else {
@@ -357,7 +357,7 @@ ExtractSummary RunExtraction(const ExtractOptions& options) {
   // Find one usable image before touching the workspace, so that a folder of unreadable files
   // fails without creating or modifying it. The decoded image is reused below.
   std::vector<bool> unusable(n, false);
-  std::optional<Image> first_image;
+  std::optional<Photo> first_image;
   size_t first_index = n;
   for (size_t i = 0; i < n && !first_image; ++i) {
     first_image = LoadUsableImage(input.dir / input.names[i], options.min_image_size);
