@@ -1,9 +1,8 @@
 #pragma once
 // The reprojection residual of eq. (34) (reprojection_cost.h) with hand-derived Jacobians.
-// Bundle adjustment spends most of its time evaluating Jacobians: measured on fountain-P11's
-// final global adjustment (51k observations, 11 cameras), automatic differentiation took 60 %
-// of the solver's time (0.89 s of 1.48 s). The functors in reprojection_cost.h stay as the
-// reference the tests compare these Jacobians against.
+// Bundle adjustment spends most of its time evaluating Jacobians, and automatic differentiation
+// took most of the solver's time (docs/measurements.md). The functors in reprojection_cost.h
+// stay as the reference the tests compare these Jacobians against.
 //
 // Derivation (camera.h's model; p = R(q) X + t the point in camera coordinates):
 //   n = (px / pz, py / pz),  r2 = |n|^2,  d = 1 + k1 r2 + k2 r2^2,  m = d n,

@@ -21,40 +21,11 @@ namespace {
 
 using Solver = BundleAdjustmentOptions::Solver;
 
-// The linear solver for a problem with `num_images` variable poses.
-//
-// Measured (bench/ba_bench.cc: 30 images, 15,000 points seen by all 30 images, 450,000
-// observations, f/k1/k2 free per image, analytic Jacobians, 2-core machine under load average
-// 3-5, one run each, 2026-11-23), CPU s of the calling thread / wall s, 1 thread:
-//   DENSE_SCHUR 29.2 / 79.1 (14 iterations), SPARSE_SCHUR SuiteSparse 35.8 / 69.2 (14),
-//   SPARSE_SCHUR Eigen 50.4 / 99.3 (14), ITERATIVE_SCHUR + SCHUR_JACOBI 111.9 / 251.0 (80);
-// 2 threads: 21.6 / 83.2, 26.1 / 68.0, 34.0 / 103.4, 100.3 / 225.8. All reach RMS 0.691 px.
-// The Schur elimination of points with 30-view tracks dominates every direct solver; at this
-// size the dense and SuiteSparse factorisations are within the load's noise and Eigen's sparse
-// LDLT is clearly slower, as is the iterative solver (80 iterations to the same cost).
-// On a sequence (bench/scale, 150 images 320x240, tracks of ~21 images) the final global BA of
-// 139 images took 13.0 s with DENSE_SCHUR and 22.6 s with SPARSE_SCHUR (SuiteSparse), the whole
-// mapper 61 s and 90 s: the Schur elimination dominates, and the dense reduced system (9
-// parameters per image here) is still cheap at that size. So, with Ceres (ChooseCeresSolver):
-// dense up to 250 images, SuiteSparse beyond, where the dense factorisation grows as n^3 and the
-// camera graph of an incremental reconstruction is sparse; ITERATIVE_SCHUR only when a direct
-// factorisation no longer fits.
-//
-// Since 2026-12-01 the project's own Levenberg-Marquardt with the points' Schur complement
-// (schur_solver.h: dense or, for a banded camera graph, sparse factorisation) replaces
-// Ceres' DENSE_SCHUR and SPARSE_SCHUR, with the same iterations and minimum (tests/ba:
-// NativeSolver, SchurSolver) in less time. Measured 2026-12-01 (2 cores, one thread),
-// native against Ceres (`--ba-solver ceres`, the former choice):
-//   fountain-P11 final global adjustment (11 images, 60,561 observations) 0.78 s (10
-//   iterations) against 2.06 s (11), same RMS and accuracy; whole mapper 3.7 s against 6.1 s;
-//   bundler/ET whole mapper 0.54 s against 0.81-0.89 s (perf stat, 5 runs);
-//   bench/scale street sequence, 100 images: mapper 12.8 s against 17.1 s; 1000 images: 347 s
-//   against 451 s, the final global adjustment (1,185,742 observations, sparse) 143 s against
-//   226 s for 44 iterations each;
-//   bench/ba_bench BM_SmallBundleAdjustment (10 images, 10,000 observations) 237 ms against
-//   387 ms (median of 5).
-// Ceres' ITERATIVE_SCHUR stays for problems beyond 5000 images, where no direct factorisation
-// fits.
+// The linear solver for a problem with `num_images` variable poses: the project's own
+// Levenberg-Marquardt / dogleg with the points' Schur complement (schur_solver.h; dense, or sparse
+// for a banded camera graph) reaches the same iterations and minimum as Ceres' DENSE_SCHUR and
+// SPARSE_SCHUR in less time; Ceres' ITERATIVE_SCHUR stays for problems beyond 5000 images, where
+// no direct factorisation fits. The measurements behind both choices: docs/measurements.md.
 Solver ChooseSolver(size_t num_images) {
   if (num_images <= 5000) return Solver::kNativeDenseSchur;
   return Solver::kIterativeSchur;

@@ -8,8 +8,8 @@
 // IntrinsicsOptions::shared_per_size adds one block per image size for the parameters it names.
 // A camera that only one image of the problem uses goes into one block with that image's pose
 // (ReprojectionBlocks::kImage): Ceres' Schur elimination works block pair by block pair, and one
-// block per image instead of three (camera, rotation, translation) made the final global
-// adjustment of a 100-image sequence 2.1x faster (8.5 -> 4.0 s) with the same result.
+// block per image instead of three (camera, rotation, translation) makes its elimination about
+// twice as fast with the same result (docs/measurements.md).
 //
 // Determinism: the parameters are copied into one contiguous buffer in id order before solving
 // and back afterwards. Ceres orders the blocks of each elimination group by address, so with the
@@ -91,9 +91,7 @@ struct BundleAdjustmentOptions {
   double parameter_tolerance = 1e-8;
   // 0: every core for the native solver, whose result does not depend on the number of threads,
   // and one thread for Ceres' solvers, whose multi-threaded results do (see above); n > 0: n
-  // threads for either. Measured on bundler/ET (2 cores, 2026-12-01, fastest of 8 alternating
-  // runs): 2 threads against 1, the native solver's time 0.17 s against 0.25 s, the mapper's
-  // 0.35 s against 0.44 s.
+  // threads for either (docs/measurements.md: what a second thread gains).
   int num_threads = 0;
   Solver solver = Solver::kAuto;
   // Levenberg-Marquardt, or Powell's dogleg (for the native solver and Ceres' alike); the

@@ -2,13 +2,8 @@
 // The Cholesky solves of the native bundle adjuster's reduced camera system
 // (reduced_camera_system.cc), on the system BLAS (scripts/install_deps.sh makes it OpenBLAS, whose
 // kernels are chosen for the CPU at run time; serial, so the results are reproducible).
-//
-// Measured on the 2-core development machine (AMD EPYC, 2026-12-01; a random SPD matrix, and a
-// banded one of 9-column blocks each coupled with its 60 successors, as a street sequence's):
-//   dense, 958 / 1345 / 2695 columns: Eigen's LLT 0.034 / 0.152 / 1.149 s, LAPACK's dpotrf
-//   0.012 / 0.042 / 0.268 s; at 300 columns Eigen's 0.002 s against 0.004 s;
-//   banded, 2700 / 9000 columns: Eigen's SimplicialLLT 0.53 / 1.91 s a factorisation, CHOLMOD's
-//   supernodal one 0.11 / 0.72 s (the same solution to 1e-16).
+// LAPACK's dense and CHOLMOD's supernodal factorisations are several times faster than Eigen's
+// LLT and SimplicialLLT at the sizes the mapper meets (docs/measurements.md).
 #include <Eigen/CholmodSupport>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

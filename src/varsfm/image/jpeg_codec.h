@@ -1,6 +1,6 @@
 #pragma once
 // JPEG decoding and encoding with libjpeg-turbo's TurboJPEG API. varsfm reads JPEGs directly
-// instead of through OpenCV's imgcodecs because linking imgcodecs pulls in ~120 shared
+// instead of through OpenCV's imgcodecs because linking imgcodecs pulls in ~210 shared
 // libraries (GDAL, codecs for formats varsfm rarely sees) whose loading dominated the start-up
 // of every command. The settings match OpenCV's libjpeg path, so pixels are bit-identical.
 #include <cstddef>
