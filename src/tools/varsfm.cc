@@ -308,6 +308,13 @@ void AddMapCommand(CLI::App* app) {
   cmd->callback([options] { varsfm::RunMapping(*options); });
 }
 
+// The surface methods by name (mesh/surface.h).
+Choices<varsfm::SurfaceMethod> SurfaceMethods() {
+  return {{"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
+          {"delaunay", varsfm::SurfaceMethod::kDelaunay},
+          {"afront", varsfm::SurfaceMethod::kAdvancingFront}};
+}
+
 // run: photos or a video -> model, every stage with its defaults.
 void AddRunCommand(CLI::App* app) {
   auto options = std::make_shared<varsfm::RunOptions>();
@@ -327,6 +334,9 @@ void AddRunCommand(CLI::App* app) {
                   "keep every N-th registered image (by name) out of densify and texture, then "
                   "score the model on those views (PSNR, SSIM, coverage); 0: none")
       ->capture_default_str();
+  AddChoice(
+      cmd, "--surface", &options->surface.method, SurfaceMethods(),
+      "mesh stage: screened Poisson, visibility-based Delaunay graph cut, or advancing front");
   AddMapperOptions(cmd, &options->map);
   cmd->callback([options] { varsfm::RunAll(*options); });
 }
@@ -404,10 +414,8 @@ void AddMeshCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("mesh", "surface mesh from a dense point cloud");
   cmd->add_option("--input", options->input, "point cloud PLY (dense.ply)")->required();
   cmd->add_option("--output", options->output, "output folder (mesh.ply)")->required();
-  AddChoice(cmd, "--method", &options->surface.method,
-            {{"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
-             {"afront", varsfm::SurfaceMethod::kAdvancingFront}},
-            "screened Poisson surface or advancing front");
+  AddChoice(cmd, "--method", &options->surface.method, SurfaceMethods(),
+            "screened Poisson, visibility-based Delaunay graph cut, or advancing front");
   cmd->add_option("--max-depth", options->surface.max_depth,
                   "screened Poisson: largest octree depth (the depth follows the cloud)")
       ->capture_default_str();

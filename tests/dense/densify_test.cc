@@ -40,6 +40,18 @@ TEST(Densify, RenderedSceneLiesOnTheTrueSurfaces) {
   EXPECT_GT(cloud.points.size(), 20000u);
   ASSERT_EQ(cloud.normals.size(), cloud.points.size());
   ASSERT_EQ(cloud.colors.size(), cloud.points.size());
+  // Visibility in the cloud: every view is a viewpoint at its camera centre; every point lists
+  // at least the two views of its pair, ascending, each of which sees it in front.
+  ASSERT_EQ(cloud.visibility.size(), cloud.points.size());
+  ASSERT_EQ(cloud.viewpoints.size(), 4u);
+  for (size_t v = 0; v < 4; ++v)
+    EXPECT_LT((cloud.viewpoints[v] - scene.poses[v].Center()).norm(), 1e-9);
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const std::vector<uint32_t>& views = cloud.visibility[i];
+    ASSERT_GE(views.size(), 2u);
+    ASSERT_TRUE(std::is_sorted(views.begin(), views.end()));
+    for (uint32_t v : views) ASSERT_GT((scene.poses[v] * cloud.points[i]).z(), 0);
+  }
 
   std::vector<double> distances, normal_angles;
   for (size_t i = 0; i < cloud.points.size(); ++i) {

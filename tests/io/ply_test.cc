@@ -96,6 +96,32 @@ TEST(Ply, ReadsAsciiAndRejectsBadInput) {
   EXPECT_FALSE(fs::exists(tmp.path() / "m.ply"));
 }
 
+TEST(Ply, VisibilityRoundTripAndBadIndexRefused) {
+  PointCloud cloud = TestCloud();
+  cloud.viewpoints = {{0, 0, -5}, {1.5, 0.25, -4}, {-2, 1, -3}};
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    cloud.visibility.push_back(i % 2 ? std::vector<uint32_t>{0, 2}
+                                     : std::vector<uint32_t>{static_cast<uint32_t>(i % 3)});
+  testing::TempDir tmp("ply_visibility");
+  WritePly(tmp.path() / "v.ply", cloud);
+  const PointCloud back = ReadPly(tmp.path() / "v.ply");
+  EXPECT_EQ(back.viewpoints, cloud.viewpoints);
+  EXPECT_EQ(back.visibility, cloud.visibility);
+  EXPECT_EQ(back.colors, cloud.colors);
+  ASSERT_EQ(back.points.size(), cloud.points.size());
+  EXPECT_LT((back.points[7] - cloud.points[7]).norm(), 1e-7 * cloud.points[7].norm());
+  cloud.visibility[3] = {3};  // names no viewpoint
+  EXPECT_THROW(WritePly(tmp.path() / "bad.ply", cloud), Error);
+  EXPECT_FALSE(fs::exists(tmp.path() / "bad.ply"));
+  std::ofstream(tmp.path() / "a.ply") << "ply\nformat ascii 1.0\nelement vertex 1\n"
+                                         "property float x\nproperty float y\nproperty float z\n"
+                                         "property list uchar uint visibility\n"
+                                         "element viewpoint 1\nproperty double x\n"
+                                         "property double y\nproperty double z\nend_header\n"
+                                         "1 2 3 2 0 1\n0 0 0\n";
+  EXPECT_THROW(ReadPly(tmp.path() / "a.ply"), Error);
+}
+
 TEST(Ply, ReadsColmapsPlyExport) {
   if (testing::RunCommand("colmap help") != 0) GTEST_SKIP() << "colmap is not installed; skipping";
   SyntheticOptions o;

@@ -315,6 +315,7 @@ PointCloud DensifyByPropagation(const Reconstruction& rec,
   const size_t n = fusion.sum.size();
   std::vector<uint32_t> valid(n, 0);
   std::vector<uint32_t> first_view(n, UINT32_MAX);
+  std::vector<std::vector<uint32_t>> seen_views(n);  // the views of the valid observations
   const double max_err2 = 4 * options.max_reprojection_error * options.max_reprojection_error;
   std::vector<std::vector<image_t>> seen_by(visibility ? n : 0);
   for (const auto& obs : fusion.observations) {
@@ -325,9 +326,13 @@ PointCloud DensifyByPropagation(const Reconstruction& rec,
     ++valid[obs.point];
     if (first_view[obs.point] == UINT32_MAX) first_view[obs.point] = obs.view;
     if (visibility) seen_by[obs.point].push_back(views[obs.view].image_id);
+    seen_views[obs.point].push_back(obs.view);
   }
   if (visibility) visibility->clear();
+  // Visibility for surfaces that carve free space along the rays (mesh/delaunay_surface.h):
+  // every view of the sequence is a viewpoint, each point lists those it was matched in.
   PointCloud cloud;
+  for (const DenseView& v : views) cloud.viewpoints.push_back(v.center);
   std::vector<Eigen::Vector3d> centers;
   std::vector<double> footprints;  // size of a matching pixel at the point (for the normals)
   for (size_t i = 0; i < n; ++i) {
@@ -341,6 +346,10 @@ PointCloud DensifyByPropagation(const Reconstruction& rec,
     const Eigen::Vector3d X = fusion.sum[i] / fusion.count[i];
     const Eigen::Vector3f c = fusion.color_sum[i] / static_cast<float>(fusion.count[i]);
     cloud.points.push_back(X);
+    std::vector<uint32_t>& seen = cloud.visibility.emplace_back(std::move(seen_views[i]));
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    if (seen.size() > 255) seen.resize(255);  // the PLY list's count is a byte
     // BGR -> RGB.
     cloud.colors.push_back({static_cast<uint8_t>(std::lround(c.z())),
                             static_cast<uint8_t>(std::lround(c.y())),
@@ -410,6 +419,10 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
     return MultiViewStereo(rec, load_image, options.mvs, {}, visibility, &st.mvs);
   PointCloud cloud = DensifyByPropagation(rec, load_image, options, st, visibility);
   if (options.method == DenseMethod::kPropagation) return cloud;
+  // The cloud's own visibility (viewpoints and indices, mesh/delaunay_surface.h) is recorded by
+  // propagation only; a cloud that PatchMatch's points join goes without it.
+  cloud.visibility.clear();
+  cloud.viewpoints.clear();
   MultiViewStereoInputs inputs;
   if (options.method == DenseMethod::kSeeded || options.method == DenseMethod::kSeededFill)
     inputs.prior = &cloud;

@@ -16,6 +16,39 @@ namespace varsfm {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The viewpoint element after the vertices (elements between are read and dropped); checks that
+// every visibility index names one.
+void ReadViewpoints(ply::ValueReader& reader, const ply::Header& header, const fs::path& file,
+                    PointCloud* cloud) {
+  std::vector<double> values;
+  std::vector<std::vector<double>> lists;
+  for (size_t e = 1; e < header.elements.size(); ++e) {
+    const ply::Element& element = header.elements[e];
+    ply::RequireKnownTypes(element, file);
+    const bool viewpoint = element.name == "viewpoint";
+    std::map<std::string, size_t> index;
+    for (size_t i = 0; i < element.properties.size(); ++i) index[element.properties[i].name] = i;
+    if (viewpoint && (!index.count("x") || !index.count("y") || !index.count("z")))
+      Fail("{}: viewpoints lack x y z", file.string());
+    for (size_t r = 0; r < element.count; ++r) {
+      if (!ply::ReadRecord(reader, element, &values, &lists))
+        Fail("{}: truncated at {} {}", file.string(), element.name, r);
+      if (viewpoint)
+        cloud->viewpoints.emplace_back(values[index["x"]], values[index["y"]], values[index["z"]]);
+    }
+    if (viewpoint) break;
+  }
+  for (size_t i = 0; i < cloud->visibility.size(); ++i)
+    for (uint32_t v : cloud->visibility[i])
+      if (v >= cloud->viewpoints.size())
+        Fail("{}: vertex {} is seen from viewpoint {} of {}", file.string(), i, v,
+             cloud->viewpoints.size());
+}
+
+}  // namespace
+
 PointCloud SparsePointCloud(const Reconstruction& reconstruction) {
   PointCloud cloud;
   for (const auto& [id, point] : reconstruction.points3D()) {
@@ -31,6 +64,16 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
     Fail("{}: {} normals for {} points", file.string(), cloud.normals.size(), n);
   if (cloud.HasColors() && cloud.colors.size() != n)
     Fail("{}: {} colours for {} points", file.string(), cloud.colors.size(), n);
+  if (cloud.HasVisibility() && cloud.visibility.size() != n)
+    Fail("{}: {} visibility lists for {} points", file.string(), cloud.visibility.size(), n);
+  for (const std::vector<uint32_t>& views : cloud.visibility) {
+    if (views.size() > 255)
+      Fail("{}: a point seen by {} views (at most 255)", file.string(), views.size());
+    for (uint32_t v : views)
+      if (v >= cloud.viewpoints.size())
+        Fail("{}: visibility index {} with {} viewpoints", file.string(), v,
+             cloud.viewpoints.size());
+  }
   WriteFileAtomically(file, [&](std::ostream& out) {
     const char* type = options.double_precision ? "double" : "float";
     out << "ply\nformat binary_little_endian 1.0\ncomment written by varsfm\n"
@@ -40,6 +83,11 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
       for (const char* axis : {"nx", "ny", "nz"})
         out << fmt::format("property {} {}\n", type, axis);
     if (cloud.HasColors()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (cloud.HasVisibility()) {
+      out << "property list uchar uint visibility\n"
+          << fmt::format("element viewpoint {}\n", cloud.viewpoints.size())
+          << "property double x\nproperty double y\nproperty double z\n";
+    }
     out << "end_header\n";
     auto put_vector = [&](const Eigen::Vector3d& v) {
       for (int k = 0; k < 3; ++k) {
@@ -54,7 +102,14 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
       if (cloud.HasNormals()) put_vector(cloud.normals[i]);
       if (cloud.HasColors())
         for (int k = 0; k < 3; ++k) PutLittleEndian<uint8_t>(out, cloud.colors[i][k]);
+      if (cloud.HasVisibility()) {
+        PutLittleEndian<uint8_t>(out, static_cast<uint8_t>(cloud.visibility[i].size()));
+        for (uint32_t v : cloud.visibility[i]) PutLittleEndian<uint32_t>(out, v);
+      }
     }
+    if (cloud.HasVisibility())
+      for (const Eigen::Vector3d& c : cloud.viewpoints)
+        for (int k = 0; k < 3; ++k) PutLittleEndian<double>(out, c[k]);
   });
 }
 
@@ -75,8 +130,8 @@ PointCloud ReadPly(const fs::path& file) {
   ply::RequireKnownTypes(vertex, file);
   std::map<std::string, size_t> index;  // property name -> position in a vertex record
   for (size_t i = 0; i < vertex.properties.size(); ++i) {
-    // A point cloud has only scalar vertex properties; a list is taken for a malformed file.
-    if (vertex.properties[i].IsList())
+    // A point cloud's only vertex list is its visibility; another is taken for a malformed file.
+    if (vertex.properties[i].IsList() && vertex.properties[i].name != "visibility")
       Fail("{}: vertex property type list is not supported", file.string());
     index[vertex.properties[i].name] = i;
   }
@@ -85,11 +140,12 @@ PointCloud ReadPly(const fs::path& file) {
   };
   if (!has({"x", "y", "z"})) Fail("{}: vertices lack x y z", file.string());
   const bool normals = has({"nx", "ny", "nz"}), colors = has({"red", "green", "blue"});
+  const bool visibility = has({"visibility"});
 
   PointCloud cloud;
   ply::ValueReader reader(in, header.binary);
   std::vector<double> values;
-  std::vector<std::vector<double>> lists;  // unused: vertex lists are rejected above
+  std::vector<std::vector<double>> lists;  // the visibility list, if any
   for (size_t v = 0; v < vertex.count; ++v) {
     if (!ply::ReadRecord(reader, vertex, &values, &lists)) {
       if (header.binary) Fail("{}: truncated at vertex {}", file.string(), v);
@@ -104,7 +160,17 @@ PointCloud ReadPly(const fs::path& file) {
       cloud.colors.emplace_back(ply::ColorByte(values[index["red"]]),
                                 ply::ColorByte(values[index["green"]]),
                                 ply::ColorByte(values[index["blue"]]));
+    if (visibility) {
+      std::vector<uint32_t>& views = cloud.visibility.emplace_back();
+      for (double v : lists[index["visibility"]]) {
+        if (!(v >= 0 && v < 4294967296.0))
+          Fail("{}: bad visibility index {} at vertex {}", file.string(), v,
+               cloud.points.size() - 1);
+        views.push_back(static_cast<uint32_t>(v));
+      }
+    }
   }
+  if (visibility) ReadViewpoints(reader, header, file, &cloud);
   return cloud;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Coloured point clouds as PLY (binary little-endian): vertex x y z (float or double),
-// optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read.
+// optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read —
+// and optional visibility: a vertex list property `visibility` (uint indices) into a second
+// element `viewpoint` (double x y z, the camera centres), which viewers skip.
 #include <filesystem>
 
 #include "varsfm/scene/point_cloud.h"
@@ -18,7 +20,8 @@ struct PlyWriteOptions {
 PointCloud SparsePointCloud(const Reconstruction& reconstruction);
 
 // Writes atomically (a temporary file beside `file`, then a rename). Throws varsfm::Error when
-// normals/colours do not match the point count or the file cannot be written.
+// normals/colours/visibility do not match the point count, a visibility index names no
+// viewpoint, or the file cannot be written.
 void WritePly(const std::filesystem::path& file, const PointCloud& cloud,
               const PlyWriteOptions& options = {});
 
@@ -27,7 +30,8 @@ void WritePly(const Reconstruction& reconstruction, const std::filesystem::path&
               const PlyWriteOptions& options = {});
 
 // Reads the vertex element of an ascii or binary_little_endian PLY: x y z required, nx ny nz
-// and red green blue when present, any scalar property types. Throws varsfm::Error.
+// and red green blue when present, any scalar property types; the visibility list and the
+// viewpoint element when present. Throws varsfm::Error.
 PointCloud ReadPly(const std::filesystem::path& file);
 
 }  // namespace varsfm

@@ -29,6 +29,7 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
     Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
                     c = Eigen::Vector3d::Zero();
     int count = 0;
+    std::vector<uint32_t> views;
   };
   std::unordered_map<uint64_t, size_t> slot;
   std::vector<Acc> acc;
@@ -39,10 +40,13 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
     a.p += cloud.points[i];
     if (cloud.HasNormals()) a.n += cloud.normals[i];
     if (cloud.HasColors()) a.c += cloud.colors[i].cast<double>();
+    if (cloud.HasVisibility())
+      a.views.insert(a.views.end(), cloud.visibility[i].begin(), cloud.visibility[i].end());
     ++a.count;
   }
   PointCloud out;
-  for (const Acc& a : acc) {
+  out.viewpoints = cloud.viewpoints;
+  for (Acc& a : acc) {
     if (cloud.HasNormals()) {
       // Opposite normals in one voxel (a thin wall) cancel: drop that voxel rather than
       // hand Poisson an arbitrary orientation.
@@ -52,6 +56,11 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
     out.points.push_back(a.p / a.count);
     if (cloud.HasColors()) {
       out.colors.push_back((a.c / a.count).array().round().cast<uint8_t>());
+    }
+    if (cloud.HasVisibility()) {
+      std::sort(a.views.begin(), a.views.end());
+      a.views.erase(std::unique(a.views.begin(), a.views.end()), a.views.end());
+      out.visibility.push_back(std::move(a.views));
     }
   }
   return out;

@@ -13,7 +13,7 @@
 namespace varsfm {
 
 // Replaces the points of each voxel_size cube by their mean (normals: normalised mean, colours:
-// mean). voxel_size <= 0 returns the cloud unchanged.
+// mean, visibility: the union). voxel_size <= 0 returns the cloud unchanged.
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size);
 
 // Mean distance from each point to its nearest other point, estimated on at most `samples`

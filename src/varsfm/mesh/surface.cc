@@ -87,6 +87,7 @@ void SurfaceOptions::Check() const {
   CheckAtLeast("--threads", num_threads, 1);
   CheckAtLeast("--max-points", max_points, 10u);
   CheckAtLeast("--trim", trim_factor, 0);
+  delaunay.Check();
   quality.Check();
 }
 
@@ -94,8 +95,14 @@ PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod met
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
   PointCloud cloud = ReadPly(file);
   if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
-  if (method != SurfaceMethod::kAdvancingFront && !cloud.HasNormals()) {
+  if (method == SurfaceMethod::kScreenedPoisson && !cloud.HasNormals()) {
     Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
+  }
+  if (method == SurfaceMethod::kDelaunay && !cloud.HasVisibility()) {
+    Fail(
+        "{}: the Delaunay surface needs the points' visibility (written by densify); try "
+        "--method poisson",
+        file.string());
   }
   return cloud;
 }
@@ -103,7 +110,8 @@ PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod met
 SurfaceMethod ParseSurfaceMethod(const std::string& name) {
   if (name == "poisson") return SurfaceMethod::kScreenedPoisson;
   if (name == "afront") return SurfaceMethod::kAdvancingFront;
-  Fail("unknown surface method '{}' (poisson | afront)", name);
+  if (name == "delaunay") return SurfaceMethod::kDelaunay;
+  Fail("unknown surface method '{}' (poisson | delaunay | afront)", name);
 }
 
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
@@ -112,7 +120,7 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
   if (cloud.points.size() < 10) {
     Fail("{} points are too few for a surface (need at least 10)", cloud.points.size());
   }
-  const bool poisson = options.method != SurfaceMethod::kAdvancingFront;
+  const bool poisson = options.method == SurfaceMethod::kScreenedPoisson;
   if (poisson && !cloud.HasNormals()) Fail("Poisson reconstruction needs point normals");
   SurfaceStats local;
   SurfaceStats& s = stats ? *stats : local;
@@ -133,6 +141,11 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
     s.faces_before_trim = mesh.faces.size();
     if (options.density_trim_levels > 0)
       TrimByDensity(surface.densities, s.depth - options.density_trim_levels, &mesh);
+  } else if (options.method == SurfaceMethod::kDelaunay) {
+    spacing = AverageNearestSpacing(cloud.points);
+    mesh = ReconstructDelaunaySurface(cloud, spacing, options.delaunay, &s.delaunay);
+    s.used_points = s.delaunay.merged_points;
+    s.faces_before_trim = mesh.faces.size() + s.delaunay.long_faces + s.delaunay.removed_faces;
   } else {
     const PointCloud used = LimitPoints(cloud, options.max_points);
     spacing = AverageNearestSpacing(used.points);

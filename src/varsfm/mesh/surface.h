@@ -3,7 +3,8 @@
 // Hoppe 2013, screened_poisson.h) at an octree depth chosen from the cloud's size over its point
 // spacing, on every point; then trimmed where the surface leaves the data (by the sampling
 // density the reconstruction reports and by the distance to the nearest point). Advancing front
-// (advancing_front.h) stays selectable. Every result passes the mesh check (mesh_quality.h) or
+// (advancing_front.h) and the visibility-based Delaunay surface (delaunay_surface.h) are
+// selectable. Every result passes the mesh check (mesh_quality.h) or
 // the reconstruction fails with one line.
 //
 // CGAL's Poisson (the 2006 method), the former default, is gone: it crashed in
@@ -14,13 +15,14 @@
 #include <filesystem>
 #include <string>
 
+#include "varsfm/mesh/delaunay_surface.h"
 #include "varsfm/mesh/mesh_quality.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
 
-enum class SurfaceMethod { kScreenedPoisson, kAdvancingFront };
+enum class SurfaceMethod { kScreenedPoisson, kAdvancingFront, kDelaunay };
 
 struct SurfaceOptions {
   SurfaceMethod method = SurfaceMethod::kScreenedPoisson;
@@ -48,6 +50,7 @@ struct SurfaceOptions {
   // from every input point are removed, so the closed implicit surface does not balloon over
   // holes. <= 0 keeps the whole surface.
   double trim_factor = 3.0;
+  DelaunaySurfaceOptions delaunay;
   MeshQualityLimits quality;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
@@ -58,6 +61,7 @@ struct SurfaceStats {
   size_t used_points = 0;  // after downsampling (advancing front)
   double average_spacing = 0;
   int depth = 0;  // screened Poisson's octree depth
+  DelaunaySurfaceStats delaunay;
   size_t faces_before_trim = 0;
   MeshQuality quality;  // of the final mesh against the input points
 };
@@ -69,10 +73,11 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
                                 SurfaceStats* stats = nullptr);
 
 // Reads the PLY a surface is built from. Throws varsfm::Error (one line naming the file) when it
-// is missing, unreadable, empty, or lacks normals that `method` needs.
+// is missing, unreadable, empty, or lacks the normals (Poisson) or visibility (Delaunay) that
+// `method` needs.
 PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method);
 
-// "poisson" (screened) / "afront"; throws varsfm::Error for anything else.
+// "poisson" (screened) / "delaunay" / "afront"; throws varsfm::Error for anything else.
 SurfaceMethod ParseSurfaceMethod(const std::string& name);
 
 }  // namespace varsfm

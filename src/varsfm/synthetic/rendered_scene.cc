@@ -154,6 +154,7 @@ RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
   const std::vector<TexturedQuad> all_quads =
       street ? MakeStreetScene(-8.0, street_length + 8.0, rng) : MakeRoomScene(rng);
   RenderedScene scene;
+  for (const TexturedQuad& q : all_quads) scene.surface.push_back({q.origin, q.u, q.v});
   std::uniform_real_distribution<double> jitter(-0.15, 0.15);
   for (int i = 0; i < o.num_images; ++i) {
     const double t = static_cast<double>(i) / (o.num_images - 1);

@@ -41,10 +41,16 @@ struct RenderedSceneOptions {
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
+// A flat face of the scene: origin + s u + t v for s, t in [0, 1].
+struct SurfaceQuad {
+  Eigen::Vector3d origin, u, v;
+};
+
 struct RenderedScene {
   std::vector<cv::Mat> images;  // BGR, 8-bit
   std::vector<Camera> cameras;
-  std::vector<Rigid3d> poses;  // cam_from_world
+  std::vector<Rigid3d> poses;        // cam_from_world
+  std::vector<SurfaceQuad> surface;  // every face of the scene: the exact truth
 };
 
 RenderedScene RenderSyntheticScene(const RenderedSceneOptions& options);

@@ -1,0 +1,68 @@
+#pragma once
+// A visibility-based surface (Labatut, Pons & Keriven, "Robust and efficient surface
+// reconstruction from range data", CGF 2009; Jancosek & Pajdla, "Multi-view reconstruction
+// preserving weakly-supported surfaces", CVPR 2011): the dense points are tetrahedralised
+// (Delaunay, tetrahedra.h), every tetrahedron is labelled inside or outside by an s-t minimum cut
+// (graph_cut.h), and the surface is the set of facets between inside and outside tetrahedra.
+// The cut's weights come from the rays camera -> point of every observation: the space a ray
+// crosses before its point is free (outside), the space just behind the point is matter
+// (inside), and a surface-quality term prefers facets that lie along the sampled surface. No
+// implicit function is fitted, so the surface does not close over the sky or weakly textured
+// regions: where no ray says otherwise, space stays empty, and every vertex is a (merged, then
+// smoothed) data point.
+#include <cstddef>
+
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/scene/triangle_mesh.h"
+
+namespace varsfm {
+
+struct DelaunaySurfaceOptions {
+  // Points within merge_spacing x the cloud's average spacing merge (a voxel grid; their
+  // visibility is united) before the tetrahedralisation. The cut's graph has about six cells
+  // per point, and neighbouring dense points from different image pairs differ mostly by depth
+  // noise, so merging costs little detail and keeps the graph to a size set by the scene.
+  double merge_spacing = 2.0;
+  // sigma of Labatut et al. (section 4.2), in merged voxels: a ray's free-space weight rises
+  // from 0 at its point to the full weight over a few sigma (1 - exp(-d^2 / 2 sigma^2)), so
+  // points displaced by noise do not carve each other's surface; the tetrahedron sigma behind
+  // the point gets the inside weight.
+  double sigma = 0.5;
+  // lambda of the surface-quality term (section 4.3) against a ray's weight of 1: each facet
+  // costs lambda (1 - min(cos phi, cos psi)), phi and psi the angles between the facet and the
+  // circumspheres of its two tetrahedra.
+  double quality_weight = 1.0;
+  // Faces with an edge longer than this many times the surface's median edge length are
+  // removed: where the cut closes the inside volume along the convex hull or across space
+  // no point sampled (behind a facade, under a sheet seen from one side), it does so with long
+  // facets between far-apart points, which no camera saw and which lie off the true surface.
+  // 0 keeps them.
+  double max_edge_factor = 8.0;
+  // Taubin lambda|mu passes (smoothing.h) over the surface: its vertices are dense points and
+  // carry their depth noise. 0: the vertices stay on the data.
+  int smoothing_iterations = 10;
+  // Connected parts of the surface with fewer faces than this fraction of the whole are
+  // removed (floaters: a few tetrahedra labelled inside around a cluster of outliers).
+  double min_component_fraction = 0.005;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+struct DelaunaySurfaceStats {
+  size_t merged_points = 0;
+  size_t cells = 0;
+  size_t rays = 0;
+  size_t inside_cells = 0;
+  size_t long_faces = 0;     // removed for an edge above max_edge_factor x the median
+  size_t removed_faces = 0;  // in small components
+  double seconds_tetrahedra = 0, seconds_rays = 0, seconds_cut = 0;
+};
+
+// `spacing`: the cloud's average point spacing (AverageNearestSpacing). Throws varsfm::Error when
+// the cloud has no visibility, too few points, or the cut leaves no surface. Deterministic for
+// any thread count (the rays' weights are summed in integers).
+TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
+                                        const DelaunaySurfaceOptions& options,
+                                        DelaunaySurfaceStats* stats = nullptr);
+
+}  // namespace varsfm

@@ -1,0 +1,137 @@
+// The visibility surface on point sets with a known surface and known cameras.
+#include "varsfm/mesh/delaunay_surface.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "varsfm/mesh/graph_cut.h"
+#include "varsfm/mesh/mesh_topology.h"
+#include "varsfm/mesh/point_grid.h"
+#include "varsfm/mesh/surface.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// n points evenly on the unit sphere (Fibonacci lattice) with z >= min_z, each seen by the
+// viewpoints (at distance 4 along the six axes, or only +z when top_only) in front of it. With
+// `noise`, radii vary by up to that much (deterministic), as dense points do; without, all
+// points are cospherical, a degenerate Delaunay input.
+PointCloud SeenSphere(int n, double min_z, bool top_only, double noise = 0) {
+  PointCloud cloud;
+  cloud.viewpoints = {{0, 0, 4}};
+  if (!top_only)
+    cloud.viewpoints.insert(cloud.viewpoints.end(),
+                            {{0, 0, -4}, {4, 0, 0}, {-4, 0, 0}, {0, 4, 0}, {0, -4, 0}});
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - 2 * (i + 0.5) / n;
+    const double r = std::sqrt(1 - z * z);
+    const double radius = 1 + noise * std::sin(12.9898 * i);
+    const Eigen::Vector3d p =
+        radius * Eigen::Vector3d(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    if (z < min_z) continue;
+    std::vector<uint32_t> views;
+    for (uint32_t v = 0; v < cloud.viewpoints.size(); ++v)
+      if (p.dot(cloud.viewpoints[v] - p) > 0.1) views.push_back(v);
+    if (views.empty()) continue;
+    cloud.points.push_back(p);
+    cloud.visibility.push_back(views);
+  }
+  return cloud;
+}
+
+double SignedVolume(const TriangleMesh& mesh) {
+  double volume = 0;
+  for (const auto& f : mesh.faces)
+    volume += mesh.vertices[f[0]].dot(mesh.vertices[f[1]].cross(mesh.vertices[f[2]])) / 6;
+  return volume;
+}
+
+TEST(DelaunaySurface, SphereSeenFromAllSidesIsClosedAndOutward) {
+  const PointCloud cloud = SeenSphere(6000, -2, false);
+  const double spacing = AverageNearestSpacing(cloud.points);
+  DelaunaySurfaceOptions options;
+  options.merge_spacing = 0.01;      // keep every point
+  options.smoothing_iterations = 0;  // and leave them: the vertices are then the data
+  DelaunaySurfaceStats stats;
+  const TriangleMesh mesh = ReconstructDelaunaySurface(cloud, spacing, options, &stats);
+  EXPECT_EQ(stats.merged_points, cloud.points.size());
+  EXPECT_GT(stats.rays, cloud.points.size());
+  for (const auto& v : mesh.vertices) ASSERT_NEAR(v.norm(), 1.0, 1e-12);
+  EXPECT_GT(mesh.vertices.size(), 0.99 * cloud.points.size());
+  const EdgeTopology topology = ComputeEdgeTopology(mesh);
+  EXPECT_EQ(topology.boundary_edges, 0u);
+  EXPECT_LT(topology.non_manifold_edges, topology.num_edges / 1000);
+  // Counter-clockwise seen from outside: the signed volume is the ball's (a polyhedron
+  // inscribed in it, slightly less).
+  EXPECT_NEAR(SignedVolume(mesh), 4.0 / 3 * std::numbers::pi, 0.02 * 4.0 / 3 * std::numbers::pi);
+}
+
+TEST(DelaunaySurface, OpenCapSeenFromAboveDoesNotCloseOverTheOpenSide) {
+  // A cap (z >= 0.3) seen only from above: the surface must stay on the cap; nothing may span
+  // the open side (screened Poisson would close it with a balloon the trim must cut away).
+  const PointCloud cloud = SeenSphere(20000, 0.3, true, 0.002);
+  const double spacing = AverageNearestSpacing(cloud.points);
+  const TriangleMesh mesh = ReconstructDelaunaySurface(cloud, spacing, {});
+  ASSERT_GT(mesh.faces.size(), cloud.points.size() / 4);
+  size_t facing_away = 0;
+  for (const auto& f : mesh.faces) {
+    const Eigen::Vector3d centroid =
+        (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3;
+    ASSERT_NEAR(centroid.norm(), 1.0, 3 * spacing);
+    // Outward like the sphere, facing the camera; only thin faces along the rim, where the
+    // inside volume meets the convex hull's flat bottom, face away.
+    const Eigen::Vector3d normal = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                                       .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    facing_away += normal.dot(centroid) < 0;
+  }
+  EXPECT_LT(facing_away, mesh.faces.size() / 10);
+  EXPECT_GT(ComputeEdgeTopology(mesh).boundary_edges, 0u);  // open
+}
+
+TEST(DelaunaySurface, DeterministicAndThroughTheSurfaceStage) {
+  PointCloud cloud = SeenSphere(3000, -0.5, false);
+  cloud.colors.assign(cloud.points.size(), {10, 20, 30});
+  SurfaceOptions options;
+  options.method = SurfaceMethod::kDelaunay;
+  SurfaceStats stats;
+  const TriangleMesh a = ReconstructSurface(cloud, options, &stats);
+  const TriangleMesh b = ReconstructSurface(cloud, options);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.faces, b.faces);
+  ASSERT_EQ(a.colors.size(), a.vertices.size());
+  EXPECT_EQ(a.colors[0], (Eigen::Matrix<uint8_t, 3, 1>(10, 20, 30)));
+  EXPECT_EQ(stats.quality.num_faces, a.faces.size());
+  EXPECT_GT(stats.delaunay.cells, stats.delaunay.merged_points);
+  // Without visibility: one line naming what is missing.
+  cloud.visibility.clear();
+  try {
+    ReconstructSurface(cloud, options);
+    ADD_FAILURE() << "no error without visibility";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("visibility"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ParseSurfaceMethod("delaunay"), SurfaceMethod::kDelaunay);
+  options.delaunay.merge_spacing = 0;
+  EXPECT_THROW(options.Check(), Error);
+}
+
+TEST(MinCut, CutsTheCheapestEdges) {
+  // source -> 0 (5), 0 -> 1 (1), 1 -> sink (5), 0 -> sink (2), source -> 1 (1): the least cut
+  // separates 0 (source side) from 1 (sink side) and pays source -> 1, 0 -> 1 and 0 -> sink: 4.
+  MinCut cut(2);
+  cut.SetTerminalWeights(0, 5, 2);
+  cut.SetTerminalWeights(1, 1, 5);
+  cut.AddEdge(0, 1, 1, 0);
+  double flow = 0;
+  const std::vector<bool> source_side = cut.Solve(&flow);
+  EXPECT_DOUBLE_EQ(flow, 4);  // 0 -> sink 2, 0 -> 1 -> sink 1, source -> 1 -> sink 1
+  EXPECT_TRUE(source_side[0]);
+  EXPECT_FALSE(source_side[1]);
+}
+
+}  // namespace
+}  // namespace varsfm
