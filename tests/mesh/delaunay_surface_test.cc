@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "varsfm/mesh/graph_cut.h"
