@@ -35,8 +35,11 @@ int main(int argc, char** argv) {
     const varsfm::RenderedScene scene = varsfm::RenderSyntheticScene(options);
     const varsfm::Reconstruction rec = varsfm::SparseModelFromRenderedScene(scene);
     varsfm::Timer timer;
-    const varsfm::PointCloud cloud =
-        varsfm::Densify(rec, [&](varsfm::image_t id) { return scene.images[id - 1]; });
+    // Propagation: its points carry the cameras that saw them, which the Delaunay cut needs.
+    varsfm::DensifyOptions propagation;
+    propagation.method = varsfm::DenseMethod::kPropagation;
+    const varsfm::PointCloud cloud = varsfm::Densify(
+        rec, [&](varsfm::image_t id) { return scene.images[id - 1]; }, propagation);
     std::printf("%d views %dx%d: %zu dense points in %.1f s\n", options.num_images, options.width,
                 options.height, cloud.points.size(), timer.Seconds());
     const varsfm::TriangleMesh truth = varsfm::SurfaceMesh(scene.surface);

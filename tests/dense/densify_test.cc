@@ -33,8 +33,10 @@ TEST(Densify, RenderedSceneLiesOnTheTrueSurfaces) {
   ASSERT_GT(rec.points3D().size(), 100u);
 
   DensifyStats stats;
+  DensifyOptions propagation;  // this test is about match propagation (the paper's method)
+  propagation.method = DenseMethod::kPropagation;
   const PointCloud cloud = Densify(
-      rec, [&](image_t id) { return scene.images[id - 1]; }, DensifyOptions{}, &stats);
+      rec, [&](image_t id) { return scene.images[id - 1]; }, propagation, &stats);
   EXPECT_GE(stats.num_pairs, 2u);
   // Four 320x240 views: tens of thousands of pixels are matched and survive fusion.
   EXPECT_GT(cloud.points.size(), 20000u);

@@ -32,7 +32,11 @@ const RenderedSurface& Scene() {
     options.focal_start = 320;  // the demo's 640 at 800 px
     s->scene = RenderSyntheticScene(options);
     const Reconstruction rec = SparseModelFromRenderedScene(s->scene);
-    s->cloud = Densify(rec, [&](image_t id) { return s->scene.images[id - 1]; });
+    // Propagation: its points carry the cameras that saw them, which the Delaunay cut needs.
+    DensifyOptions propagation;
+    propagation.method = DenseMethod::kPropagation;
+    s->cloud = Densify(
+        rec, [&](image_t id) { return s->scene.images[id - 1]; }, propagation);
     s->truth = SurfaceMesh(s->scene.surface);
     s->seen = SeenByCameras(s->truth, s->scene.cameras, s->scene.poses, 2);
     // The extent: the diagonal of the box of the true surface seen by two views.

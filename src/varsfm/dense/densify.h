@@ -30,7 +30,9 @@ enum class DenseMethod {
 };
 
 struct DensifyOptions {
-  DenseMethod method = DenseMethod::kPropagation;
+  // PatchMatch by default: on every shared set it renders the held-out views better than
+  // propagation (bench/results/2026-12-02-dense-default.md); propagation stays selectable.
+  DenseMethod method = DenseMethod::kPatchMatch;
   MultiViewStereoOptions mvs;  // for every method but kPropagation
   // Pair selection: partners share >= min_shared_points 3D points whose median triangulation
   // angle lies in [min, max] degrees; each image keeps its best `max_partners` (most shared).

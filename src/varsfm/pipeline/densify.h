@@ -26,7 +26,7 @@ struct DensifyCommandOptions {
 };
 
 struct DensifyCommandResult {
-  DenseMethod method = DenseMethod::kPropagation;
+  DenseMethod method = DenseMethod::kPatchMatch;
   DensifyStats stats;
   SparseDistanceStats quality;  // the dense points against the sparse model
   size_t num_points = 0;
