@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/dense/source_views.h"
 #include "varsfm/geometry/fundamental.h"
 #include "varsfm/geometry/triangulation.h"
 #include "varsfm/util/error.h"
@@ -46,12 +47,7 @@ std::map<std::pair<image_t, image_t>, std::vector<point3D_t>> SharedPoints(
     const Reconstruction& rec) {
   std::map<std::pair<image_t, image_t>, std::vector<point3D_t>> shared;
   for (const auto& [id, point] : rec.points3D()) {
-    std::vector<image_t> views;
-    for (const TrackElement& el : point.track)
-      if (rec.ExistsImage(el.image_id) && rec.image(el.image_id).registered)
-        views.push_back(el.image_id);
-    std::sort(views.begin(), views.end());
-    views.erase(std::unique(views.begin(), views.end()), views.end());
+    const std::vector<image_t> views = RegisteredViews(rec, point);
     for (size_t a = 0; a < views.size(); ++a)
       for (size_t b = a + 1; b < views.size(); ++b) shared[{views[a], views[b]}].push_back(id);
   }

@@ -27,6 +27,16 @@ double ScaleWeight(double r) {
 
 }  // namespace
 
+std::vector<image_t> RegisteredViews(const Reconstruction& rec, const Point3D& point) {
+  std::vector<image_t> views;
+  for (const TrackElement& el : point.track)
+    if (rec.ExistsImage(el.image_id) && rec.image(el.image_id).registered)
+      views.push_back(el.image_id);
+  std::sort(views.begin(), views.end());
+  views.erase(std::unique(views.begin(), views.end()), views.end());
+  return views;
+}
+
 std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& rec,
                                                           const SourceViewOptions& options) {
   struct Score {
@@ -37,12 +47,7 @@ std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& 
   const double min_angle = options.min_angle_deg * kDegToRad;
   const double good_angle = options.good_angle_deg * kDegToRad;
   for (const auto& [id, point] : rec.points3D()) {
-    std::vector<image_t> views;
-    for (const TrackElement& el : point.track)
-      if (rec.ExistsImage(el.image_id) && rec.image(el.image_id).registered)
-        views.push_back(el.image_id);
-    std::sort(views.begin(), views.end());
-    views.erase(std::unique(views.begin(), views.end()), views.end());
+    const std::vector<image_t> views = RegisteredViews(rec, point);
     for (image_t r : views)
       for (image_t s : views) {
         if (r == s) continue;

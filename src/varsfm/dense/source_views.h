@@ -23,6 +23,9 @@ struct SourceViewOptions {
 
 // For each registered image (the keys), its best source views, best first; images with none are
 // left out.
+// The registered images that observe `point`, sorted, each once (a track may hold an image twice).
+std::vector<image_t> RegisteredViews(const Reconstruction& reconstruction, const Point3D& point);
+
 std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& reconstruction,
                                                           const SourceViewOptions& options);
 
