@@ -5,7 +5,6 @@
 #include <numbers>
 
 namespace varsfm {
-namespace {
 
 int SolveQuadraticReal(double a, double b, double c, std::vector<double>* roots) {
   const double scale = std::max({std::abs(a), std::abs(b), std::abs(c)});
@@ -27,8 +26,6 @@ int SolveQuadraticReal(double a, double b, double c, std::vector<double>* roots)
   roots->push_back(c / q);
   return 2;
 }
-
-}  // namespace
 
 int SolveCubicReal(double c3, double c2, double c1, double c0, std::vector<double>* roots) {
   roots->clear();

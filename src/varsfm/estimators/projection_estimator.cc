@@ -1,19 +1,16 @@
 #include "varsfm/estimators/projection_estimator.h"
 
-#include <limits>
-
-#include <Eigen/Geometry>
-
 #include "varsfm/estimators/projection_dlt.h"
+#include "varsfm/estimators/reprojection_residual.h"
 
 namespace varsfm {
 
 void ProjectionEstimator::MinimalSolve(const std::vector<int>& sample,
                                        std::vector<Model>* models) const {
-  NonMinimalSolve(sample, models);
+  NonMinimalSolve(sample, Model{}, models);
 }
 
-void ProjectionEstimator::NonMinimalSolve(const std::vector<int>& indices,
+void ProjectionEstimator::NonMinimalSolve(const std::vector<int>& indices, const Model& /*initial*/,
                                           std::vector<Model>* models) const {
   std::vector<Eigen::Vector2d> x(indices.size());
   std::vector<Eigen::Vector3d> X(indices.size());
@@ -27,10 +24,7 @@ void ProjectionEstimator::NonMinimalSolve(const std::vector<int>& indices,
 
 double ProjectionEstimator::SquaredResidual(const Model& P, size_t i) const {
   // ProjectionDLT fixes det(M) > 0, so the third coordinate is the depth (H&Z eq. 6.15).
-  const Eigen::Vector3d y = P * points3D[i].homogeneous();
-  if (y.z() <= std::numeric_limits<double>::epsilon())
-    return std::numeric_limits<double>::infinity();
-  return (y.hnormalized() - points2D[i]).squaredNorm();
+  return SquaredReprojectionResidual(P * points3D[i].homogeneous(), points2D[i]);
 }
 
 RansacReport<Matrix34d> EstimateProjectionMatrix(const std::vector<Eigen::Vector2d>& points2D,

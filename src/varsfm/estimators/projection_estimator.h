@@ -18,7 +18,8 @@ struct ProjectionEstimator {
   const std::vector<Eigen::Vector3d>& points3D;
   size_t NumData() const { return points2D.size(); }
   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
+                       std::vector<Model>* models) const;
   double SquaredResidual(const Model& P, size_t i) const;
 };
 

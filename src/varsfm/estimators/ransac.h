@@ -9,8 +9,10 @@
 //   size_t NumData() const;
 //   // Candidate models from kMinSampleSize data indices (several for 7-pt F / 5-pt E).
 //   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-//   // Least-squares models from more data (at most one model is used).
-//   void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+//   // Least-squares models from more data (at most one model is used); `initial` is the best
+//   // model so far, the starting point of an iterative solver (linear solvers ignore it).
+//   void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
+//                        std::vector<Model>* models) const;
 //   // Squared residual of datum i (in the units of max_error, squared).
 //   double SquaredResidual(const Model& model, size_t i) const;
 #include <algorithm>
@@ -146,7 +148,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
       ransac_internal::Inliers(estimator, best_model, threshold2 * m * m, &inliers);
       if (inliers.size() <= static_cast<size_t>(kSample)) return;
       models.clear();
-      estimator.NonMinimalSolve(inliers, &models);
+      estimator.NonMinimalSolve(inliers, best_model, &models);
       if (models.empty()) return;
       consider(models.front());
     }
@@ -182,7 +184,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
   ransac_internal::Inliers(estimator, best_model, threshold2, &inliers);
   if (inliers.size() > static_cast<size_t>(kSample)) {
     models.clear();
-    estimator.NonMinimalSolve(inliers, &models);
+    estimator.NonMinimalSolve(inliers, best_model, &models);
     if (!models.empty()) consider(models.front());
   }
 

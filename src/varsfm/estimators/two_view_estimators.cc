@@ -35,6 +35,7 @@ void FundamentalEstimator::MinimalSolve(const std::vector<int>& sample,
 }
 
 void FundamentalEstimator::NonMinimalSolve(const std::vector<int>& indices,
+                                           const Model& /*initial*/,
                                            std::vector<Model>* models) const {
   std::vector<Eigen::Vector2d> y1, y2;
   Gather(x1, x2, indices, &y1, &y2);
@@ -48,10 +49,10 @@ double FundamentalEstimator::SquaredResidual(const Model& F, size_t i) const {
 
 void HomographyEstimator::MinimalSolve(const std::vector<int>& sample,
                                        std::vector<Model>* models) const {
-  NonMinimalSolve(sample, models);
+  NonMinimalSolve(sample, Model{}, models);
 }
 
-void HomographyEstimator::NonMinimalSolve(const std::vector<int>& indices,
+void HomographyEstimator::NonMinimalSolve(const std::vector<int>& indices, const Model& /*initial*/,
                                           std::vector<Model>* models) const {
   std::vector<Eigen::Vector2d> y1, y2;
   Gather(x1, x2, indices, &y1, &y2);
@@ -72,7 +73,7 @@ void EssentialEstimator::MinimalSolve(const std::vector<int>& sample,
   Essential5pt(y1, y2, models);
 }
 
-void EssentialEstimator::NonMinimalSolve(const std::vector<int>& indices,
+void EssentialEstimator::NonMinimalSolve(const std::vector<int>& indices, const Model& /*initial*/,
                                          std::vector<Model>* models) const {
   if (indices.size() < 8) return;  // the linear solver needs eight; LO is skipped below that
   std::vector<Eigen::Vector2d> y1, y2;

@@ -23,7 +23,8 @@ struct FundamentalEstimator {
   const std::vector<Eigen::Vector2d>& x2;
   size_t NumData() const { return x1.size(); }
   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
+                       std::vector<Model>* models) const;
   double SquaredResidual(const Model& F, size_t i) const;
 };
 
@@ -34,7 +35,8 @@ struct HomographyEstimator {
   const std::vector<Eigen::Vector2d>& x2;
   size_t NumData() const { return x1.size(); }
   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
+                       std::vector<Model>* models) const;
   double SquaredResidual(const Model& H, size_t i) const;
 };
 
@@ -45,7 +47,8 @@ struct EssentialEstimator {
   const std::vector<Eigen::Vector2d>& x2;
   size_t NumData() const { return x1.size(); }
   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, std::vector<Model>* models) const;
+  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
+                       std::vector<Model>* models) const;
   double SquaredResidual(const Model& E, size_t i) const;
 };
 
