@@ -239,7 +239,7 @@ void AddExtractCommand(CLI::App* app) {
   cmd->add_option("--contrast-threshold", options->sift.contrast_threshold,
                   "SIFT contrast threshold (OpenCV's; lower: more, weaker features)")
       ->capture_default_str();
-  cmd->add_option("--max-frames", options->keyframes.max_frames, "video keyframe cap (0: none)")
+  cmd->add_option("--max-frames", options->keyframes.max_frames, "at most this many video keyframes, subsampled evenly (0: as many as the motion needs)")
       ->capture_default_str();
   cmd->add_option("--threads", options->threads, "worker threads (0: all cores)")
       ->capture_default_str();

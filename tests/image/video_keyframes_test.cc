@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -39,12 +41,18 @@ cv::Mat Texture() {
   return texture;
 }
 
-// An MJPG video panning across the texture, with strongly blurred frames at kBlurred.
-fs::path WritePanVideo(const fs::path& path) {
-  const cv::Mat texture = Texture();
+// A 320x240 MJPG video at 25 frames per second.
+cv::VideoWriter OpenVideoWriter(const fs::path& path) {
   cv::VideoWriter writer(path.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 25,
                          cv::Size(320, 240));
   EXPECT_TRUE(writer.isOpened());
+  return writer;
+}
+
+// An MJPG video panning across the texture, with strongly blurred frames at kBlurred.
+fs::path WritePanVideo(const fs::path& path) {
+  const cv::Mat texture = Texture();
+  cv::VideoWriter writer = OpenVideoWriter(path);
   for (int i = 0; i < kFrames; ++i) {
     cv::Mat frame = texture(cv::Rect(i * kStep, 0, 320, 240)).clone();
     if (kBlurred.count(i)) cv::GaussianBlur(frame, frame, cv::Size(), 4.0);
@@ -97,6 +105,60 @@ TEST(VideoKeyframes, MaxFramesSubsamplesEvenlyAndRemovesTheRest) {
               capped.names.end());
   }
   EXPECT_EQ(files, 4u);
+}
+
+// A flat grey stretch (no corners: motion cannot be measured) followed by the pan.
+fs::path WriteBlankThenPanVideo(const fs::path& path, int blank_frames) {
+  const cv::Mat texture = Texture();
+  cv::VideoWriter writer = OpenVideoWriter(path);
+  for (int i = 0; i < blank_frames; ++i)
+    writer.write(cv::Mat(240, 320, CV_8UC3, cv::Scalar(128, 128, 128)));
+  for (int i = 0; i < kFrames; ++i) writer.write(texture(cv::Rect(i * kStep, 0, 320, 240)).clone());
+  return path;
+}
+
+TEST(VideoKeyframes, FeaturelessStretchGivesAKeyframePerIntervalAndContentEndsIt) {
+  testing::TempDir dir("video_keyframes_blank");
+  constexpr int kBlank = 50;
+  const fs::path video = WriteBlankThenPanVideo(dir.path() / "blank.avi", kBlank);
+  KeyframeOptions options;
+  options.featureless_interval = 30;
+  const KeyframeSummary summary = ExtractKeyframes(video, dir.path() / "frames", options);
+  std::vector<int> indices;
+  for (const std::string& name : summary.names) indices.push_back(FrameIndex(name));
+  std::vector<int> blank;
+  std::copy_if(indices.begin(), indices.end(), std::back_inserter(blank),
+               [&](int i) { return i < kBlank; });
+  // One keyframe per interval over the blank frames, not one per frame...
+  EXPECT_EQ(blank, (std::vector<int>{0, 30}));
+  // ...and the first frame with content becomes a keyframe at once.
+  EXPECT_NE(std::find(indices.begin(), indices.end(), kBlank), indices.end());
+}
+
+TEST(VideoKeyframes, NoCapByDefault) {
+  // Every frame moves far enough to be a keyframe; the default keeps all of them, more than
+  // the 300 a fixed cap used to allow.
+  testing::TempDir dir("video_keyframes_nocap");
+  constexpr int kLongFrames = 320, kLongStep = 2;
+  cv::Mat texture(240, 320 + kLongStep * kLongFrames, CV_8UC3, cv::Scalar(128, 128, 128));
+  cv::RNG rng(5);
+  for (int i = 0; i < 1500; ++i) {
+    const cv::Point center(rng.uniform(0, texture.cols), rng.uniform(0, texture.rows));
+    cv::circle(texture, center, rng.uniform(3, 12),
+               cv::Scalar(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256)),
+               cv::FILLED);
+  }
+  const fs::path video = dir.path() / "long.avi";
+  {
+    cv::VideoWriter writer = OpenVideoWriter(video);
+    for (int i = 0; i < kLongFrames; ++i)
+      writer.write(texture(cv::Rect(i * kLongStep, 0, 320, 240)).clone());
+  }
+  KeyframeOptions options;
+  options.min_motion = 0.001;  // 0.4 px: every frame's 2 px step is enough
+  const KeyframeSummary summary = ExtractKeyframes(video, dir.path() / "frames", options);
+  EXPECT_EQ(summary.frames_read, static_cast<size_t>(kLongFrames));
+  EXPECT_GT(summary.names.size(), 300u);
 }
 
 TEST(VideoKeyframes, UnreadableVideoIsAnErrorAndWritesNothing) {

@@ -57,18 +57,19 @@ double Median(std::vector<double> values) {
 // Corners of the last keyframe and their motion into later frames.
 class MotionTracker {
  public:
-  void SetKeyframe(const cv::Mat& small) {
+  void SetKeyframe(const cv::Mat& small, size_t index) {
     keyframe_ = small;
-    corners_.clear();
-    const double diagonal = std::hypot(small.cols, small.rows);
-    cv::goodFeaturesToTrack(small, corners_, 400, 0.01, 0.01 * diagonal);
+    keyframe_index_ = index;
+    corners_ = Corners(small);
   }
 
-  // Whether `small` has moved far enough from the keyframe to be the next one.
-  bool MovedEnough(const cv::Mat& small, const KeyframeOptions& options) const {
-    // Too few corners to measure motion: the overlap cannot be judged, so keep the frame
-    // (max_frames bounds the count for a featureless video).
-    if (corners_.size() < 8) return true;
+  // Whether frame `index` (`small`) has moved far enough from the keyframe to be the next one.
+  bool MovedEnough(const cv::Mat& small, size_t index, const KeyframeOptions& options) const {
+    if (corners_.size() < kMinCorners) {
+      // The keyframe's motion cannot be measured: wait for content or for the interval.
+      return index - keyframe_index_ >= static_cast<size_t>(options.featureless_interval) ||
+             Corners(small).size() >= kMinCorners;
+    }
     std::vector<cv::Point2f> tracked, back;
     std::vector<uchar> status, back_status;
     std::vector<float> error;
@@ -89,7 +90,18 @@ class MotionTracker {
   }
 
  private:
+  // Fewer corners than this give no reliable median motion.
+  static constexpr size_t kMinCorners = 8;
+
+  static std::vector<cv::Point2f> Corners(const cv::Mat& small) {
+    std::vector<cv::Point2f> corners;
+    const double diagonal = std::hypot(small.cols, small.rows);
+    cv::goodFeaturesToTrack(small, corners, 400, 0.01, 0.01 * diagonal);
+    return corners;
+  }
+
   cv::Mat keyframe_;
+  size_t keyframe_index_ = 0;
   std::vector<cv::Point2f> corners_;
 };
 
@@ -167,9 +179,9 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
       debug("video {}: frame {} is blurred, dropped", video.filename().string(), frame.index);
       continue;
     }
-    if (!have_keyframe || tracker.MovedEnough(frame.small, options)) {
+    if (!have_keyframe || tracker.MovedEnough(frame.small, frame.index, options)) {
       write_keyframe(frame);
-      tracker.SetKeyframe(frame.small);
+      tracker.SetKeyframe(frame.small, frame.index);
       have_keyframe = true;
     }
   }
@@ -201,6 +213,7 @@ void KeyframeOptions::Check() const {
   CheckAtLeast("blur_frames_after", blur_frames_after, 0);
   CheckAtLeast("min_motion", min_motion, 0);
   CheckInRange("min_tracked", min_tracked, 0, 1);
+  CheckAtLeast("featureless_interval", featureless_interval, 1);
   CheckAtLeast("--max-frames", max_frames, 0);
   CheckAtLeast("analysis_size", analysis_size, 16);
   CheckInRange("jpeg_quality", jpeg_quality, 1, 100);

@@ -23,8 +23,15 @@ struct KeyframeOptions {
   // ...or when fewer than min_tracked of those corners can still be tracked (little overlap
   // left, e.g. fast motion or a rotation in place).
   double min_tracked = 0.5;
-  // At most this many keyframes (0 = no limit); beyond it they are subsampled evenly.
-  int max_frames = 300;
+  // When the last keyframe has too few corners to measure motion (a blank wall, a covered
+  // lens, a dark stretch), the next keyframe is the first sharp frame that has corners of its
+  // own (the scene came back into view) or, failing that, the first one at least this many
+  // frames later, so that a featureless stretch yields a keyframe a second or so rather than
+  // one per frame.
+  int featureless_interval = 30;
+  // At most this many keyframes (0 = no limit, the default: the motion and overlap criteria
+  // above decide how many a video needs); beyond it they are subsampled evenly.
+  int max_frames = 0;
   // Sharpness and motion are measured on frames downscaled to at most this size (speed; the
   // keyframes themselves are written at full resolution).
   int analysis_size = 640;
