@@ -3,6 +3,7 @@
 // surface method, and scored by eval/surface_score.h at a tolerance of 0.5 % of the extent of
 // the true surface that two or more views see.
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
+//                  [--dense patchmatch|propagation]
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
@@ -11,6 +12,7 @@
 #include "varsfm/dense/densify.h"
 #include "varsfm/eval/surface_score.h"
 #include "varsfm/mesh/surface.h"
+#include "varsfm/mesh/surface_input.h"
 #include "varsfm/synthetic/rendered_truth.h"
 #include "varsfm/util/timer.h"
 
@@ -18,6 +20,7 @@ int main(int argc, char** argv) {
   try {
     varsfm::RenderedSceneOptions options;  // the demo's scene: 800 x 600, zooming x1.6
     double tolerance = 0.005;
+    varsfm::DensifyOptions dense;  // PatchMatch, the default
     for (int i = 1; i + 1 < argc; i += 2) {
       const std::string flag = argv[i];
       if (flag == "--images")
@@ -28,6 +31,10 @@ int main(int argc, char** argv) {
         options.height = std::stoi(argv[i + 1]);
       else if (flag == "--tolerance")
         tolerance = std::stod(argv[i + 1]);
+      else if (flag == "--dense" && std::string(argv[i + 1]) == "propagation")
+        dense.method = varsfm::DenseMethod::kPropagation;
+      else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
+        dense.method = varsfm::DenseMethod::kPatchMatch;
       else
         throw std::runtime_error("unknown option " + flag);
     }
@@ -35,13 +42,16 @@ int main(int argc, char** argv) {
     const varsfm::RenderedScene scene = varsfm::RenderSyntheticScene(options);
     const varsfm::Reconstruction rec = varsfm::SparseModelFromRenderedScene(scene);
     varsfm::Timer timer;
-    // Propagation: its points carry the cameras that saw them, which the Delaunay cut needs.
-    varsfm::DensifyOptions propagation;
-    propagation.method = varsfm::DenseMethod::kPropagation;
-    const varsfm::PointCloud cloud = varsfm::Densify(
-        rec, [&](varsfm::image_t id) { return scene.images[id - 1]; }, propagation);
-    std::printf("%d views %dx%d: %zu dense points in %.1f s\n", options.num_images, options.width,
-                options.height, cloud.points.size(), timer.Seconds());
+    varsfm::DenseVisibility visibility;
+    varsfm::PointCloud cloud = varsfm::Densify(
+        rec, [&](varsfm::image_t id) { return scene.images[id - 1]; }, dense, nullptr, &visibility);
+    // The cameras that saw each point, which the Delaunay cut needs, as `mesh` attaches them
+    // from dense.ply.vis (propagation's cloud carries them already).
+    if (!cloud.HasVisibility()) varsfm::AttachVisibility(visibility, rec, &cloud);
+    std::printf("%d views %dx%d, %s: %zu dense points in %.1f s\n", options.num_images,
+                options.width, options.height,
+                std::string(varsfm::DenseMethodName(dense.method)).c_str(), cloud.points.size(),
+                timer.Seconds());
     const varsfm::TriangleMesh truth = varsfm::SurfaceMesh(scene.surface);
     const auto seen = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 2);
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;

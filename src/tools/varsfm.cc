@@ -414,6 +414,9 @@ void AddMeshCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand("mesh", "surface mesh from a dense point cloud");
   cmd->add_option("--input", options->input, "point cloud PLY (dense.ply)")->required();
   cmd->add_option("--output", options->output, "output folder (mesh.ply)")->required();
+  cmd->add_option("--sparse", options->sparse,
+                  "delaunay: the sparse model whose cameras see the points of INPUT.vis "
+                  "(default: INPUT's folder/sparse)");
   AddChoice(cmd, "--method", &options->surface.method, SurfaceMethods(),
             "screened Poisson, visibility-based Delaunay graph cut, or advancing front");
   cmd->add_option("--max-depth", options->surface.max_depth,

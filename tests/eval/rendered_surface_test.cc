@@ -8,6 +8,7 @@
 #include "varsfm/dense/densify.h"
 #include "varsfm/eval/surface_score.h"
 #include "varsfm/mesh/surface.h"
+#include "varsfm/mesh/surface_input.h"
 #include "varsfm/synthetic/rendered_truth.h"
 
 namespace varsfm {
@@ -15,7 +16,8 @@ namespace {
 
 struct RenderedSurface {
   RenderedScene scene;
-  PointCloud cloud;
+  PointCloud propagation;  // carries its cameras in the cloud
+  PointCloud patchmatch;   // the default dense method; its cameras come as image ids
   TriangleMesh truth;
   std::function<bool(const Eigen::Vector3d&)> seen;
   double extent = 0;
@@ -32,11 +34,15 @@ const RenderedSurface& Scene() {
     options.focal_start = 320;  // the demo's 640 at 800 px
     s->scene = RenderSyntheticScene(options);
     const Reconstruction rec = SparseModelFromRenderedScene(s->scene);
-    // Propagation: its points carry the cameras that saw them, which the Delaunay cut needs.
+    const auto load = [&](image_t id) { return s->scene.images[id - 1]; };
     DensifyOptions propagation;
     propagation.method = DenseMethod::kPropagation;
-    s->cloud = Densify(
-        rec, [&](image_t id) { return s->scene.images[id - 1]; }, propagation);
+    s->propagation = Densify(rec, load, propagation);
+    DensifyOptions patchmatch;
+    patchmatch.method = DenseMethod::kPatchMatch;
+    DenseVisibility visibility;
+    s->patchmatch = Densify(rec, load, patchmatch, nullptr, &visibility);
+    AttachVisibility(visibility, rec, &s->patchmatch);  // as `mesh` reads dense.ply.vis
     s->truth = SurfaceMesh(s->scene.surface);
     s->seen = SeenByCameras(s->truth, s->scene.cameras, s->scene.poses, 2);
     // The extent: the diagonal of the box of the true surface seen by two views.
@@ -49,11 +55,16 @@ const RenderedSurface& Scene() {
   return *surface;
 }
 
-SurfaceScore Score(SurfaceMethod method) {
+// The lower bounds a surface's scores must pass.
+struct MinScore {
+  double accuracy, completeness, fscore;
+};
+
+void ExpectScore(SurfaceMethod method, const PointCloud RenderedSurface::*cloud, MinScore min) {
   const RenderedSurface& s = Scene();
   SurfaceOptions options;
   options.method = method;
-  const TriangleMesh mesh = ReconstructSurface(s.cloud, options);
+  const TriangleMesh mesh = ReconstructSurface(s.*cloud, options);
   SurfaceScoreOptions score;
   score.tolerance = 0.005 * s.extent;
   const SurfaceScore result = ScoreSurface(mesh, s.truth, score, s.seen);
@@ -62,25 +73,33 @@ SurfaceScore Score(SurfaceMethod method) {
       "F %.3f\n",
       score.tolerance, result.accuracy, result.median_accuracy_distance, result.completeness,
       result.median_completeness_distance, result.fscore);
-  return result;
+  EXPECT_GT(result.accuracy, min.accuracy) << result.median_accuracy_distance;
+  EXPECT_GT(result.completeness, min.completeness) << result.median_completeness_distance;
+  EXPECT_GT(result.fscore, min.fscore);
 }
 
 // At this image size the dense points are about a pixel footprint (~0.015 here) off their
 // surface and the tolerance is 0.039, so neither surface reaches the 0.95 (measured:
 // Delaunay accuracy 0.753, completeness 0.804, F 0.778; screened Poisson 0.787, 0.717, 0.751).
 // The bounds hold each near its figure, so a change that loses a few points of F fails here.
-TEST(RenderedSurface, DelaunayLiesOnTheTrueSurfaceAndCoversIt) {
-  const SurfaceScore score = Score(SurfaceMethod::kDelaunay);
-  EXPECT_GT(score.accuracy, 0.72) << score.median_accuracy_distance;
-  EXPECT_GT(score.completeness, 0.77) << score.median_completeness_distance;
-  EXPECT_GT(score.fscore, 0.75);
+TEST(RenderedSurface, DelaunayOnPropagationLiesOnTheTrueSurfaceAndCoversIt) {
+  ExpectScore(SurfaceMethod::kDelaunay, &RenderedSurface::propagation, {0.72, 0.77, 0.75});
 }
 
-TEST(RenderedSurface, PoissonLiesOnTheTrueSurfaceAndCoversIt) {
-  const SurfaceScore score = Score(SurfaceMethod::kScreenedPoisson);
-  EXPECT_GT(score.accuracy, 0.75) << score.median_accuracy_distance;
-  EXPECT_GT(score.completeness, 0.69) << score.median_completeness_distance;
-  EXPECT_GT(score.fscore, 0.72);
+TEST(RenderedSurface, PoissonOnPropagationLiesOnTheTrueSurfaceAndCoversIt) {
+  ExpectScore(SurfaceMethod::kScreenedPoisson, &RenderedSurface::propagation, {0.75, 0.69, 0.72});
+}
+
+// PatchMatch's points lie on the surface (every one agrees in three views), so both surfaces are
+// accurate; they cover less than propagation's, which reach weakly textured walls PatchMatch's
+// consistency check rejects (measured: Delaunay accuracy 0.996, completeness 0.638, F 0.778;
+// screened Poisson 0.999, 0.607, 0.755).
+TEST(RenderedSurface, DelaunayOnPatchMatchLiesOnTheTrueSurfaceAndCoversIt) {
+  ExpectScore(SurfaceMethod::kDelaunay, &RenderedSurface::patchmatch, {0.97, 0.61, 0.75});
+}
+
+TEST(RenderedSurface, PoissonOnPatchMatchLiesOnTheTrueSurfaceAndCoversIt) {
+  ExpectScore(SurfaceMethod::kScreenedPoisson, &RenderedSurface::patchmatch, {0.97, 0.58, 0.73});
 }
 
 }  // namespace

@@ -4,13 +4,18 @@
 #include <cmath>
 #include <numbers>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
+#include "support/test_data.h"
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/io/ply.h"
+#include "varsfm/io/point_visibility.h"
 #include "varsfm/mesh/graph_cut.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
+#include "varsfm/mesh/surface_input.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -118,6 +123,83 @@ TEST(DelaunaySurface, DeterministicAndThroughTheSurfaceStage) {
   EXPECT_EQ(ParseSurfaceMethod("delaunay"), SurfaceMethod::kDelaunay);
   options.delaunay.merge_spacing = 0;
   EXPECT_THROW(options.Check(), Error);
+}
+
+// PatchMatch's points carry no cameras in the PLY: their visibility is dense.ply.vis (image ids)
+// and the camera centres are the sparse model's. Read that way, the cloud is the one that
+// carries its own visibility, and so is its surface.
+TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
+  testing::TempDir dir("delaunay_vis");
+  const PointCloud seen = SeenSphere(3000, -0.5, false);
+  // One image per viewpoint, with ids 3, 5, 7, ... so ids and indices differ; an unregistered
+  // image with no points, which must not become a viewpoint.
+  Reconstruction model;
+  Camera camera = Camera::FromFocal(640, 480, 500);
+  camera.camera_id = 1;
+  model.AddCamera(camera);
+  PointVisibility ids(seen.points.size());
+  for (size_t p = 0; p < seen.points.size(); ++p)
+    for (uint32_t v : seen.visibility[p]) ids[p].push_back(3 + 2 * v);
+  for (uint32_t v = 0; v <= seen.viewpoints.size(); ++v) {
+    Image image;
+    image.image_id = 3 + 2 * v;
+    image.name = "view" + std::to_string(v) + ".jpg";
+    image.camera_id = camera.camera_id;
+    const Eigen::Matrix3d rotation =
+        Eigen::AngleAxisd(0.3 * v, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    const Eigen::Vector3d centre =
+        v < seen.viewpoints.size() ? seen.viewpoints[v] : Eigen::Vector3d(9, 9, 9);
+    image.cam_from_world = Rigid3d(rotation, -(rotation * centre));
+    image.registered = v < seen.viewpoints.size();
+    model.AddImage(image);
+  }
+  WriteColmapModel(model, dir.path() / "sparse" / "0", {.binary = true});
+  PointCloud bare = seen;
+  bare.visibility.clear();
+  bare.viewpoints.clear();
+  const auto ply = dir.path() / "dense.ply";
+  WritePly(ply, bare);
+  // Without dense.ply.vis: one line naming the file and what is missing.
+  try {
+    ReadSurfaceInput(ply, SurfaceMethod::kDelaunay);
+    ADD_FAILURE() << "no error without dense.ply.vis";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("dense.ply.vis"), std::string::npos) << e.what();
+  }
+  WritePointVisibility(dir.path() / "dense.ply.vis", ids);
+
+  const PointCloud read = ReadSurfaceInput(ply, SurfaceMethod::kDelaunay);  // OUT/sparse
+  ASSERT_EQ(read.viewpoints.size(), seen.viewpoints.size());
+  for (size_t v = 0; v < seen.viewpoints.size(); ++v)
+    EXPECT_LT((read.viewpoints[v] - seen.viewpoints[v]).norm(), 1e-9);
+  EXPECT_EQ(read.visibility, seen.visibility);
+  PointCloud written = seen;
+  written.points = read.points;  // as the PLY stores them
+  const double spacing = AverageNearestSpacing(read.points);
+  const TriangleMesh a = ReconstructDelaunaySurface(read, spacing, {});
+  const TriangleMesh b = ReconstructDelaunaySurface(written, spacing, {});
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_GT(a.faces.size(), 1000u);
+  // A model folder given explicitly, and the one-line errors of a mismatched pair.
+  EXPECT_EQ(ReadSurfaceInput(ply, SurfaceMethod::kDelaunay, dir.path() / "sparse" / "0")
+                .visibility.size(),
+            seen.points.size());
+  PointCloud other = bare;
+  ids[0].push_back(99);  // no such image
+  EXPECT_THROW(AttachVisibility(ids, model, &other), Error);
+  ids[0].pop_back();
+  ids[0].push_back(3 + 2 * static_cast<image_t>(seen.viewpoints.size()));  // not registered
+  EXPECT_THROW(AttachVisibility(ids, model, &other), Error);
+  ids.pop_back();
+  EXPECT_THROW(AttachVisibility(ids, model, &other), Error);
+  WritePointVisibility(dir.path() / "dense.ply.vis", ids);
+  try {
+    ReadSurfaceInput(ply, SurfaceMethod::kDelaunay);
+    ADD_FAILURE() << "no error for a .vis of another cloud";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("dense.ply.vis"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+  }
 }
 
 TEST(MinCut, CutsTheCheapestEdges) {

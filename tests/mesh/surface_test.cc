@@ -15,6 +15,7 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
+#include "varsfm/mesh/surface_input.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {

@@ -1,9 +1,11 @@
 // The mesh stage on real photographs: bundler/kermit's dense cloud, on which the former default
 // (CGAL's Poisson) crashed the process in its surface mesher, must give a mesh that passes the
-// check, with its figures in summary.json.
+// check, with its figures in summary.json; the Delaunay surface must read the same cloud with the
+// visibility beside it (dense.ply.vis) and the sparse model's cameras.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +18,14 @@ namespace {
 using testing::RunCommand;
 using testing::TempDir;
 using testing::VarsfmBinary;
+
+// The face count in a binary PLY's header.
+long FacesInPly(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  for (std::string line; std::getline(in, line) && line != "end_header";)
+    if (line.starts_with("element face ")) return std::stol(line.substr(13));
+  return -1;
+}
 
 TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
   VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
@@ -34,6 +44,17 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
   EXPECT_LT(mesh["relative_distance"].get<double>(), 0.005) << mesh;
   EXPECT_NEAR(mesh["relative_distance"].get<double>(),
               mesh["median_distance"].get<double>() / mesh["extent"].get<double>(), 1e-12);
+
+  // The other surface on the same points: the mesh check passes (exit 0) and the mesh is not
+  // tiny.
+  ASSERT_EQ(RunCommand(fmt::format("{} mesh --input {} --output {} --method delaunay",
+                                   testing::ShellQuote(VarsfmBinary()),
+                                   testing::ShellQuote(out / "dense.ply"),
+                                   testing::ShellQuote(tmp.path() / "delaunay")),
+                       &log),
+            0)
+      << log;
+  EXPECT_GE(FacesInPly(tmp.path() / "delaunay" / "mesh.ply"), 2000) << log;
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <optional>
 
-#include "varsfm/io/ply.h"
 #include "varsfm/mesh/advancing_front.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
@@ -89,22 +88,6 @@ void SurfaceOptions::Check() const {
   CheckAtLeast("--trim", trim_factor, 0);
   delaunay.Check();
   quality.Check();
-}
-
-PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method) {
-  if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
-  PointCloud cloud = ReadPly(file);
-  if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
-  if (method == SurfaceMethod::kScreenedPoisson && !cloud.HasNormals()) {
-    Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
-  }
-  if (method == SurfaceMethod::kDelaunay && !cloud.HasVisibility()) {
-    Fail(
-        "{}: the Delaunay surface needs the points' visibility (written by densify); try "
-        "--method poisson",
-        file.string());
-  }
-  return cloud;
 }
 
 SurfaceMethod ParseSurfaceMethod(const std::string& name) {

@@ -12,7 +12,6 @@
 // bundler/ET and sceaux it returned 116 and 155 faces from 322k and 1.04M points (its surface
 // mesher starts from one inner point of the implicit function and meshes what it reaches from
 // there). It also needed the cloud cut to 60,000 points to run in time.
-#include <filesystem>
 #include <string>
 
 #include "varsfm/mesh/delaunay_surface.h"
@@ -71,11 +70,6 @@ struct SurfaceStats {
 // point when it has colours.
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats = nullptr);
-
-// Reads the PLY a surface is built from. Throws varsfm::Error (one line naming the file) when it
-// is missing, unreadable, empty, or lacks the normals (Poisson) or visibility (Delaunay) that
-// `method` needs.
-PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method);
 
 // "poisson" (screened) / "delaunay" / "afront"; throws varsfm::Error for anything else.
 SurfaceMethod ParseSurfaceMethod(const std::string& name);

@@ -15,7 +15,7 @@ void MeshCommandOptions::Check() const { surface.Check(); }
 MeshCommandResult RunMesh(const MeshCommandOptions& options) {
   options.Check();
   Timer timer;
-  const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method);
+  const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method, options.sparse);
   MeshCommandResult result;
   TriangleMesh mesh;
   try {

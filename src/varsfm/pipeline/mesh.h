@@ -7,12 +7,17 @@
 
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/surface.h"
+#include "varsfm/mesh/surface_input.h"
 
 namespace varsfm {
 
 struct MeshCommandOptions {
   std::filesystem::path input;   // PLY point cloud (normals needed for Poisson)
   std::filesystem::path output;  // folder; OUT/mesh.ply is written
+  // The sparse model the cloud was made from (a model folder or its parent): the camera centres
+  // of the visibility beside the cloud (INPUT.vis), which the Delaunay surface needs when the
+  // PLY holds none (surface_input.h). Empty: INPUT's folder/sparse.
+  std::filesystem::path sparse;
   SurfaceOptions surface;
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage

@@ -128,6 +128,7 @@ RunResult RunAll(const RunOptions& options) {
     MeshCommandOptions mesh;
     mesh.input = options.output / "dense.ply";
     mesh.output = options.output;
+    mesh.sparse = options.output / "sparse" / "0";
     mesh.surface = options.surface;
     const MeshCommandResult meshed = RunMesh(mesh);
     result.seconds_mesh = meshed.seconds;

@@ -1,0 +1,70 @@
+#include "varsfm/mesh/surface_input.h"
+
+#include <map>
+
+#include "varsfm/io/colmap_model.h"
+#include "varsfm/io/ply.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// The visibility beside `file` (file.vis) with the camera centres of `sparse`.
+void ReadVisibilityBeside(const std::filesystem::path& file, const std::filesystem::path& sparse,
+                          PointCloud* cloud) {
+  std::filesystem::path vis = file;
+  vis += ".vis";
+  if (!std::filesystem::is_regular_file(vis))
+    Fail(
+        "{}: the Delaunay surface needs the points' visibility, in the PLY or beside it as {} "
+        "(written by densify); try --method poisson",
+        file.string(), vis.filename().string());
+  const std::filesystem::path model_dir = sparse.empty() ? file.parent_path() / "sparse" : sparse;
+  const Reconstruction model = ReadColmapModel(model_dir);
+  try {
+    AttachVisibility(ReadPointVisibility(vis), model, cloud);
+  } catch (const Error& e) {
+    Fail("{} with the model in {}: {}", vis.string(), model_dir.string(), e.what());
+  }
+}
+
+}  // namespace
+
+void AttachVisibility(const PointVisibility& visibility, const Reconstruction& model,
+                      PointCloud* cloud) {
+  if (visibility.size() != cloud->points.size())
+    Fail("visibility of {} points for a cloud of {}", visibility.size(), cloud->points.size());
+  std::map<image_t, uint32_t> index;  // ascending ids -> ascending viewpoint indices
+  for (const std::vector<image_t>& ids : visibility)
+    for (image_t id : ids) index.emplace(id, 0);
+  std::vector<Eigen::Vector3d> viewpoints;
+  viewpoints.reserve(index.size());
+  for (auto& [id, i] : index) {
+    if (!model.ExistsImage(id) || !model.image(id).registered)
+      Fail("image {} sees a point but is not a registered image of the model", id);
+    i = static_cast<uint32_t>(viewpoints.size());
+    viewpoints.push_back(model.image(id).Center());
+  }
+  cloud->viewpoints = std::move(viewpoints);
+  cloud->visibility.assign(visibility.size(), {});
+  for (size_t p = 0; p < visibility.size(); ++p) {
+    std::vector<uint32_t>& views = cloud->visibility[p];
+    views.reserve(visibility[p].size());
+    for (image_t id : visibility[p]) views.push_back(index.at(id));
+  }
+}
+
+PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
+                            const std::filesystem::path& sparse) {
+  if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
+  PointCloud cloud = ReadPly(file);
+  if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
+  if (method == SurfaceMethod::kScreenedPoisson && !cloud.HasNormals()) {
+    Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
+  }
+  if (method == SurfaceMethod::kDelaunay && !cloud.HasVisibility())
+    ReadVisibilityBeside(file, sparse, &cloud);
+  return cloud;
+}
+
+}  // namespace varsfm

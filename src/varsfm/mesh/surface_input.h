@@ -1,0 +1,31 @@
+#pragma once
+// The point cloud a surface is built from (OUT/dense.ply), with what its method needs: normals
+// for screened Poisson; for the Delaunay surface (delaunay_surface.h) the cameras that saw each
+// point. Match propagation records those in the PLY itself (a viewpoint element and a list per
+// point); PatchMatch's depth-map fusion writes them beside it as OUT/dense.ply.vis, image ids in
+// the layout of COLMAP's fused.ply.vis (io/point_visibility.h), whose camera centres come from
+// the sparse model the cloud was made from.
+#include <filesystem>
+
+#include "varsfm/io/point_visibility.h"
+#include "varsfm/mesh/surface.h"
+#include "varsfm/scene/point_cloud.h"
+#include "varsfm/scene/reconstruction.h"
+
+namespace varsfm {
+
+// Sets cloud->viewpoints to the centres of the images `visibility` names (ascending ids) and
+// cloud->visibility to indices into them (ascending, as the ids). Throws varsfm::Error when the
+// counts of points differ or an id is not a registered image of `model`.
+void AttachVisibility(const PointVisibility& visibility, const Reconstruction& model,
+                      PointCloud* cloud);
+
+// Reads `file`. Throws varsfm::Error (one line naming the file) when it is missing, unreadable or
+// empty, or lacks the normals (Poisson) or visibility (Delaunay) that `method` needs. For the
+// Delaunay surface, a PLY without its own visibility takes `file`.vis with the camera centres
+// of the model in `sparse` (a model folder or its parent, io/colmap_model.h); an empty `sparse`
+// means `file`'s folder/sparse, where `varsfm run` writes it.
+PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
+                            const std::filesystem::path& sparse = {});
+
+}  // namespace varsfm
