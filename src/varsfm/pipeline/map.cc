@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fstream>
 #include <future>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -76,10 +77,15 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
     if (tvg.config == TwoViewGeometry::kDegenerate || tvg.config == TwoViewGeometry::kWatermark ||
         tvg.config == TwoViewGeometry::kUndefined)
       continue;
-    if (tvg.config == TwoViewGeometry::kPlanar || tvg.config == TwoViewGeometry::kPanoramic ||
-        tvg.config == TwoViewGeometry::kPlanarOrPanoramic)
-      ws.planar_pairs.push_back({std::min(id1, id2), std::max(id1, id2)});
-    ws.graph.AddImagePair(id1, id2, tvg.inlier_matches);
+    const bool planar = tvg.config == TwoViewGeometry::kPlanar ||
+                        tvg.config == TwoViewGeometry::kPanoramic ||
+                        tvg.config == TwoViewGeometry::kPlanarOrPanoramic;
+    if (planar) ws.planar_pairs.push_back({std::min(id1, id2), std::max(id1, id2)});
+    // The verified F goes with the matches that are its inliers (a planar pair's are H's), so
+    // that the mapper does not estimate it again.
+    std::optional<Eigen::Matrix3d> F;
+    if (!planar && !tvg.F.isZero()) F = tvg.F;
+    ws.graph.AddImagePair(id1, id2, tvg.inlier_matches, F);
     ++pairs;
   }
   // The advice depends on what the workspace holds, not on who ran the matching (`run` has).

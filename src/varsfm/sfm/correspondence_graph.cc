@@ -10,8 +10,10 @@ void CorrespondenceGraph::AddImage(image_t image_id, size_t num_points2D) {
   images_[image_id].correspondences.resize(num_points2D);
 }
 
-void CorrespondenceGraph::AddImagePair(image_t id1, image_t id2, const FeatureMatches& matches) {
+void CorrespondenceGraph::AddImagePair(image_t id1, image_t id2, const FeatureMatches& matches,
+                                       const std::optional<Eigen::Matrix3d>& F) {
   if (id1 == id2) return;
+  if (F) fundamentals_[{std::min(id1, id2), std::max(id1, id2)}] = id1 < id2 ? *F : F->transpose();
   auto& c1 = images_.at(id1).correspondences;
   auto& c2 = images_.at(id2).correspondences;
   size_t added = 0;
@@ -39,6 +41,13 @@ std::vector<image_t> CorrespondenceGraph::ImageIds() const {
 size_t CorrespondenceGraph::NumObservedPoints2D(image_t image_id) const {
   const auto& c = images_.at(image_id).correspondences;
   return std::count_if(c.begin(), c.end(), [](const auto& v) { return !v.empty(); });
+}
+
+std::optional<Eigen::Matrix3d> CorrespondenceGraph::FundamentalMatrix(image_t id1,
+                                                                      image_t id2) const {
+  const auto it = fundamentals_.find({std::min(id1, id2), std::max(id1, id2)});
+  if (it == fundamentals_.end()) return std::nullopt;
+  return id1 < id2 ? it->second : Eigen::Matrix3d(it->second.transpose());
 }
 
 FeatureMatches CorrespondenceGraph::MatchesBetween(image_t id1, image_t id2) const {

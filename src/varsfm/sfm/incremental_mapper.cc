@@ -11,6 +11,7 @@
 #include "varsfm/ba/bundle_adjuster.h"
 #include "varsfm/calibration/two_view_calibration.h"
 #include "varsfm/estimators/two_view_estimators.h"
+#include "varsfm/geometry/fundamental.h"
 #include "varsfm/geometry/triangulation.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
@@ -158,21 +159,32 @@ IncrementalMapper::PairGeometry IncrementalMapper::EstimatePairGeometry(
     const Reconstruction& rec, const InitialPairCandidate& pair) const {
   PairGeometry geometry;
   const FeatureMatches matches = graph_.MatchesBetween(pair.image_id1, pair.image_id2);
-  std::vector<Eigen::Vector2d> x1, x2;
-  for (const auto& m : matches) {
-    x1.push_back(rec.image(pair.image_id1).points2D[m.point2D_idx1].xy);
-    x2.push_back(rec.image(pair.image_id2).points2D[m.point2D_idx2].xy);
+  if (const auto verified = graph_.FundamentalMatrix(pair.image_id1, pair.image_id2)) {
+    // Geometric verification's F; its inliers (the pair's matches) within the initial pair's
+    // threshold, all of them when matching used the same one.
+    geometry.F = *verified;
+    const double max_error2 = options_.init_max_error_px * options_.init_max_error_px;
+    for (const auto& m : matches)
+      if (SampsonErrorSquared(geometry.F, rec.image(pair.image_id1).points2D[m.point2D_idx1].xy,
+                              rec.image(pair.image_id2).points2D[m.point2D_idx2].xy) < max_error2)
+        geometry.inlier_matches.push_back(m);
+  } else {
+    // A graph without F (not from a workspace's verification): F by LO-RANSAC here.
+    std::vector<Eigen::Vector2d> x1, x2;
+    for (const auto& m : matches) {
+      x1.push_back(rec.image(pair.image_id1).points2D[m.point2D_idx1].xy);
+      x2.push_back(rec.image(pair.image_id2).points2D[m.point2D_idx2].xy);
+    }
+    RansacOptions ransac;
+    ransac.max_error = options_.init_max_error_px;
+    ransac.seed = DeriveSeed(options_.seed, pair.image_id1 * 65536ull + pair.image_id2);
+    const auto report = EstimateFundamentalMatrix(x1, x2, ransac);
+    if (!report.success) return geometry;
+    geometry.F = report.model;
+    for (size_t i = 0; i < matches.size(); ++i)
+      if (report.inlier_mask[i]) geometry.inlier_matches.push_back(matches[i]);
   }
-  // F re-estimated on the verified matches with a tight threshold.
-  RansacOptions ransac;
-  ransac.max_error = options_.init_max_error_px;
-  ransac.seed = DeriveSeed(options_.seed, pair.image_id1 * 65536ull + pair.image_id2);
-  const auto report = EstimateFundamentalMatrix(x1, x2, ransac);
-  if (!report.success) return geometry;
   geometry.success = true;
-  geometry.F = report.model;
-  for (size_t i = 0; i < matches.size(); ++i)
-    if (report.inlier_mask[i]) geometry.inlier_matches.push_back(matches[i]);
   const Camera& c1 = rec.CameraOf(pair.image_id1);
   const Camera& c2 = rec.CameraOf(pair.image_id2);
   geometry.well_conditioned =

@@ -43,9 +43,10 @@ struct IncrementalMapperOptions {
   // The initial pair's points must have this median triangulation angle: a pure rotation or
   // a too-short baseline gives near-zero angles (and a meaningless structure).
   double init_min_median_angle_deg = 3.0;
-  // The pair's fundamental matrix is re-estimated on its verified matches with this inlier
-  // threshold (px), tighter than the matching's: the self-calibration reads the focal lengths
-  // from F, and loose inliers bend it.
+  // The initial pair's matches are the inliers of its verified F within this Sampson distance
+  // (px), should matching have used a looser threshold: the self-calibration reads the focal
+  // lengths from F and the two-view BA starts from these matches. Also the threshold of the
+  // LO-RANSAC for F of a graph that carries none.
   double init_max_error_px = 1.5;
   // A degenerate initial pair's focal length is chosen by a third view (SelectDegenerateFocal)
   // instead of taken from the prior: scales of the prior this far apart in log(scale) (sqrt(2)),
@@ -110,7 +111,7 @@ class IncrementalMapper {
   MapperSummary Reconstruct(Reconstruction* reconstruction);
 
  private:
-  // The pair's verified matches re-verified by F (LO-RANSAC): F and its inlier matches.
+  // The pair's F and its inlier matches: verification's (from the graph), else by LO-RANSAC.
   struct PairGeometry {
     bool success = false;
     Eigen::Matrix3d F;

@@ -39,7 +39,8 @@ RemainingImages SelectImages(const Reconstruction& first, const std::map<camera_
   for (const auto& [pair, count] : graph.PairCounts())
     if (ids.count(pair.first) && ids.count(pair.second))
       remaining.graph.AddImagePair(pair.first, pair.second,
-                                   graph.MatchesBetween(pair.first, pair.second));
+                                   graph.MatchesBetween(pair.first, pair.second),
+                                   graph.FundamentalMatrix(pair.first, pair.second));
   return remaining;
 }
 
