@@ -4,9 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
-
+#include "varsfm/estimators/absolute_pose_estimator.h"
 #include "varsfm/estimators/projection_estimator.h"
 #include "varsfm/geometry/projection_decomposition.h"
 #include "varsfm/geometry/triangulation.h"
@@ -151,30 +149,22 @@ void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
 }
 
 // (b) PnP with the neighbour's intrinsics (robust on nearly planar point sets, where the DLT is
-// ill-posed), then the same refinement frees the focal length.
+// ill-posed): LO-RANSAC around P3P on normalised coordinates, then the same refinement frees
+// the focal length.
 void AddPnpHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out) {
   const Camera start = p.camera_registered ? p.camera : p.neighbour_camera;
-  std::vector<cv::Point2d> image_points;
-  std::vector<cv::Point3d> object_points;
-  for (size_t i = 0; i < p.x.size(); ++i) {
-    const Eigen::Vector2d n = start.ImageToNormalized(p.x[i]);
-    image_points.emplace_back(n.x(), n.y());
-    object_points.emplace_back(p.X[i].x(), p.X[i].y(), p.X[i].z());
-  }
-  cv::Mat rvec, tvec;
-  cv::setRNGSeed(static_cast<int>(DeriveSeed(p.seed, p.image_id) & 0x7fffffff));
-  if (!cv::solvePnPRansac(object_points, image_points, cv::Mat::eye(3, 3, CV_64F), cv::noArray(),
-                          rvec, tvec, false, p.options.pnp_max_iterations,
-                          p.options.max_error_px / start.focal(), p.options.pnp_confidence,
-                          cv::noArray(), cv::SOLVEPNP_AP3P))
-    return;
-  cv::Mat Rcv;
-  cv::Rodrigues(rvec, Rcv);
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  cv::cv2eigen(Rcv, R);
-  cv::cv2eigen(tvec, t);
-  RefineAndScore(p, {start, Rigid3d(R, t), 0}, out);
+  std::vector<Eigen::Vector2d> normalized;
+  normalized.reserve(p.x.size());
+  for (const Eigen::Vector2d& x : p.x) normalized.push_back(start.ImageToNormalized(x));
+  RansacOptions ransac;
+  ransac.max_error = start.ImageToNormalizedThreshold(p.options.max_error_px);
+  ransac.confidence = p.options.pnp_confidence;
+  ransac.max_iterations = p.options.pnp_max_iterations;
+  // A stream of its own, apart from the DLT's (seeded by the image id).
+  ransac.seed = DeriveSeed(DeriveSeed(p.seed, p.image_id), 1);
+  const auto report = Ransac(AbsolutePoseEstimator{normalized, p.X}, ransac);
+  if (!report.success) return;
+  RefineAndScore(p, {start, report.model, 0}, out);
 }
 
 // The registered image that shares the most 3D points with the correspondences (the most

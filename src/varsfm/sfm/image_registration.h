@@ -23,7 +23,7 @@ struct ImageRegistrationOptions {
   // A hypothesis is refined on the correspondences within this factor of max_error_px: RANSAC's
   // minimal-sample pose is rough, so a tighter gate would drop the points that refine it.
   double refinement_gate_factor = 4.0;
-  // PnP fallback (OpenCV's RANSAC with AP3P): its iteration cap and confidence. 1000 iterations
+  // PnP hypothesis (LO-RANSAC around P3P): its iteration cap and confidence. 1000 iterations
   // reach 99.99 % confidence down to an inlier ratio of about 0.2 for 3-point samples.
   int pnp_max_iterations = 1000;
   double pnp_confidence = 0.9999;
