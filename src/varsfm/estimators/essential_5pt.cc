@@ -8,6 +8,8 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 
+#include "varsfm/estimators/null_vector.h"
+
 namespace varsfm {
 namespace {
 
@@ -151,11 +153,9 @@ int Essential5pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen
     const double x = (v[6] / w).real(), y = (v[7] / w).real(), z = (v[8] / w).real();
     const Eigen::Matrix<double, 9, 1> e =
         x * basis.col(0) + y * basis.col(1) + z * basis.col(2) + basis.col(3);
-    const Eigen::Matrix3d Em =
-        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(e.data());
-    const double norm = Em.norm();
-    if (!(norm > 0) || !std::isfinite(norm)) continue;
-    models->push_back(Em / norm);
+    Eigen::Matrix3d Em = MatrixFromRowMajor(e);
+    if (!ScaleToUnitNorm(&Em)) continue;
+    models->push_back(Em);
     ++added;
   }
   return added;

@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 
 #include "varsfm/estimators/normalization.h"
+#include "varsfm/estimators/null_vector.h"
 #include "varsfm/estimators/polynomial.h"
 
 namespace varsfm {
@@ -25,24 +26,19 @@ int Fundamental7pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eig
                    std::vector<Eigen::Matrix3d>* models) {
   if (x1.size() < 7 || x2.size() < 7) return 0;
   const std::vector<Eigen::Vector2d> p1(x1.begin(), x1.begin() + 7), p2(x2.begin(), x2.begin() + 7);
-  std::vector<Eigen::Vector2d> n1, n2;
-  Eigen::Matrix3d T1, T2;
-  NormalizePoints2D(p1, &n1, &T1);
-  NormalizePoints2D(p2, &n2, &T2);
+  const NormalizedCorrespondences n = NormalizeCorrespondences(p1, p2);
 
   // Rows of A f = 0 with f = F in row-major order, one per constraint x2^T F x1 = 0; stored
   // transposed so the null space is the last two columns of the full Q of A^T's QR.
   Eigen::Matrix<double, 9, 7> At;
   for (int i = 0; i < 7; ++i) {
-    const double u1 = n1[i].x(), v1 = n1[i].y(), u2 = n2[i].x(), v2 = n2[i].y();
+    const double u1 = n.x1[i].x(), v1 = n.x1[i].y(), u2 = n.x2[i].x(), v2 = n.x2[i].y();
     At.col(i) << u2 * u1, u2 * v1, u2, v2 * u1, v2 * v1, v2, u1, v1, 1;
   }
   const Eigen::Matrix<double, 9, 9> Q =
       Eigen::HouseholderQR<Eigen::Matrix<double, 9, 7>>(At).householderQ();
-  const Eigen::Matrix3d F1 =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(Q.col(7).data());
-  const Eigen::Matrix3d F2 =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(Q.col(8).data());
+  const Eigen::Matrix3d F1 = MatrixFromRowMajor(Q.col(7));
+  const Eigen::Matrix3d F2 = MatrixFromRowMajor(Q.col(8));
 
   // det(A + a B) = det A + a tr(adj(A) B) + a^2 tr(adj(B) A) + a^3 det B with A = F2,
   // B = F1 - F2, i.e. F = a F1 + (1 - a) F2.
@@ -56,10 +52,9 @@ int Fundamental7pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eig
   int added = 0;
   for (const double a : roots) {
     const Eigen::Matrix3d Fn = A + a * B;
-    Eigen::Matrix3d F = T2.transpose() * Fn * T1;  // undo the normalisation: x'^T T2^T Fn T1 x
-    const double norm = F.norm();
-    if (!(norm > 0) || !std::isfinite(norm)) continue;
-    models->push_back(F / norm);
+    Eigen::Matrix3d F = n.T2.transpose() * Fn * n.T1;  // undo the normalisation: x'^T T2^T Fn T1 x
+    if (!ScaleToUnitNorm(&F)) continue;
+    models->push_back(F);
     ++added;
   }
   return added;

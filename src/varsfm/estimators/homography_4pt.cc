@@ -2,38 +2,31 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "varsfm/estimators/normalization.h"
+#include "varsfm/estimators/null_vector.h"
 
 namespace varsfm {
 
 bool HomographyDLT(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
                    Eigen::Matrix3d* H) {
   if (x1.size() < 4 || x1.size() != x2.size()) return false;
-  std::vector<Eigen::Vector2d> n1, n2;
-  Eigen::Matrix3d T1, T2;
-  NormalizePoints2D(x1, &n1, &T1);
-  NormalizePoints2D(x2, &n2, &T2);
+  const NormalizedCorrespondences n = NormalizeCorrespondences(x1, x2);
   // Two rows of x2 x (H x1) = 0 per correspondence (H&Z eq. 4.3), h = H row-major.
   Eigen::Matrix<double, 9, 9> AtA = Eigen::Matrix<double, 9, 9>::Zero();
-  for (size_t i = 0; i < n1.size(); ++i) {
-    const double u1 = n1[i].x(), v1 = n1[i].y(), u2 = n2[i].x(), v2 = n2[i].y();
+  for (size_t i = 0; i < n.x1.size(); ++i) {
+    const double u1 = n.x1[i].x(), v1 = n.x1[i].y(), u2 = n.x2[i].x(), v2 = n.x2[i].y();
     Eigen::Matrix<double, 9, 1> a, b;
     a << 0, 0, 0, -u1, -v1, -1, v2 * u1, v2 * v1, v2;
     b << u1, v1, 1, 0, 0, 0, -u2 * u1, -u2 * v1, -u2;
     AtA.selfadjointView<Eigen::Lower>().rankUpdate(a);
     AtA.selfadjointView<Eigen::Lower>().rankUpdate(b);
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eig(
-      AtA.selfadjointView<Eigen::Lower>());
-  if (eig.info() != Eigen::Success) return false;
-  const Eigen::Matrix<double, 9, 1> h = eig.eigenvectors().col(0);
-  const Eigen::Matrix3d Hn =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(h.data());
+  Eigen::Matrix<double, 9, 1> h;
+  if (!SmallestEigenvector(AtA, &h)) return false;
   // x2 = T2^-1 Hn T1 x1.
-  const Eigen::Matrix3d result = T2.inverse() * Hn * T1;
+  const Eigen::Matrix3d result = n.T2.inverse() * MatrixFromRowMajor(h) * n.T1;
   const double norm = result.norm();
   if (!(norm > 0) || !std::isfinite(norm) ||
       std::abs(result.determinant()) < 1e-12 * norm * norm * norm)

@@ -36,4 +36,12 @@ void NormalizePoints3D(const std::vector<Eigen::Vector3d>& points,
   Normalize<3>(points, normalized, T);
 }
 
+NormalizedCorrespondences NormalizeCorrespondences(const std::vector<Eigen::Vector2d>& x1,
+                                                   const std::vector<Eigen::Vector2d>& x2) {
+  NormalizedCorrespondences n;
+  NormalizePoints2D(x1, &n.x1, &n.T1);
+  NormalizePoints2D(x2, &n.x2, &n.T2);
+  return n;
+}
+
 }  // namespace varsfm

@@ -14,4 +14,13 @@ void NormalizePoints2D(const std::vector<Eigen::Vector2d>& points,
 void NormalizePoints3D(const std::vector<Eigen::Vector3d>& points,
                        std::vector<Eigen::Vector3d>* normalized, Eigen::Matrix4d* T);
 
+// Both sides of a set of correspondences x1[i] <-> x2[i], each normalised on its own:
+// x1[i] = T1 * original x1[i], x2[i] = T2 * original x2[i].
+struct NormalizedCorrespondences {
+  std::vector<Eigen::Vector2d> x1, x2;
+  Eigen::Matrix3d T1, T2;
+};
+NormalizedCorrespondences NormalizeCorrespondences(const std::vector<Eigen::Vector2d>& x1,
+                                                   const std::vector<Eigen::Vector2d>& x2);
+
 }  // namespace varsfm

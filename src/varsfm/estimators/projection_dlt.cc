@@ -2,10 +2,10 @@
 
 #include <cmath>
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "varsfm/estimators/normalization.h"
+#include "varsfm/estimators/null_vector.h"
 
 namespace varsfm {
 
@@ -28,10 +28,8 @@ bool ProjectionDLT(const std::vector<Eigen::Vector2d>& points2D,
     AtA.selfadjointView<Eigen::Lower>().rankUpdate(a);
     AtA.selfadjointView<Eigen::Lower>().rankUpdate(b);
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>> eig(
-      AtA.selfadjointView<Eigen::Lower>());
-  if (eig.info() != Eigen::Success) return false;
-  const Eigen::Matrix<double, 12, 1> p = eig.eigenvectors().col(0);
+  Eigen::Matrix<double, 12, 1> p;
+  if (!SmallestEigenvector(AtA, &p)) return false;
   const Matrix34d Pn = Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(p.data());
   // Undo the normalisations: T x ~ Pn U X, so P = T^-1 Pn U.
   Matrix34d result = T.inverse() * Pn * U;

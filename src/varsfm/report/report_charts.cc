@@ -153,7 +153,7 @@ void DrawWorkspace(const ReportData& data, ReportCharts* charts) {
     matrix.image_ids.push_back(image.image_id);
     matrix.names.push_back(image.name);
   }
-  for (const ReportPair& pair : data.pairs) {
+  for (const WorkspacePairRow& pair : data.pairs) {
     const auto a = index.find(pair.image_id1), b = index.find(pair.image_id2);
     if (a == index.end() || b == index.end()) continue;
     matrix.cells.push_back({{a->second, b->second}, pair.num_inliers});

@@ -12,7 +12,6 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply_format.h"
 #include "varsfm/report/thumbnail.h"
-#include "varsfm/report/workspace_tables.h"
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -142,7 +141,7 @@ bool AddWorkspace(const fs::path& database, ReportData* data,
   }
   for (const WorkspacePairRow& row : tables.pairs) {
     if (row.num_inliers == 0) continue;
-    data->pairs.push_back({row.image_id1, row.image_id2, row.num_inliers, row.config});
+    data->pairs.push_back(row);
     const bool used =
         row.num_inliers >= data->min_pair_inliers && row.config != TwoViewGeometry::kDegenerate &&
         row.config != TwoViewGeometry::kWatermark && row.config != TwoViewGeometry::kUndefined;

@@ -16,6 +16,7 @@
 #include "varsfm/camera/camera.h"
 #include "varsfm/geometry/rigid3.h"
 #include "varsfm/report/display_model.h"
+#include "varsfm/report/workspace_tables.h"
 #include "varsfm/util/types.h"
 
 namespace varsfm {
@@ -41,21 +42,13 @@ struct ReportImage {
   int thumbnail_height = 0;
 };
 
-// A verified image pair of the workspace (two_view_geometries).
-struct ReportPair {
-  image_t image_id1 = kInvalidImageId;
-  image_t image_id2 = kInvalidImageId;
-  size_t num_inliers = 0;
-  int config = 0;  // COLMAP's TwoViewGeometry configuration
-};
-
 struct ReportData {
   std::filesystem::path output;      // OUT
   std::filesystem::path sparse_dir;  // the model read
   size_t num_models = 1;             // models in OUT/sparse (sparse/0, sparse/1, ...)
   nlohmann::json summary = nlohmann::json::object();  // OUT/summary.json, {} when absent
   std::vector<ReportImage> images;                    // by image id: the order of capture
-  std::vector<ReportPair> pairs;
+  std::vector<WorkspacePairRow> pairs;  // the verified pairs with at least one inlier
   size_t min_pair_inliers = 15;  // the mapper's default (MapOptions::min_pair_inliers)
   // The sparse model's statistics.
   size_t num_points3D = 0;

@@ -19,11 +19,12 @@ struct WorkspaceImageRow {
   size_t num_keypoints = 0;
 };
 
+// A verified image pair (two_view_geometries).
 struct WorkspacePairRow {
   image_t image_id1 = kInvalidImageId;
   image_t image_id2 = kInvalidImageId;
   size_t num_inliers = 0;
-  int config = 0;
+  int config = 0;  // COLMAP's TwoViewGeometry configuration
 };
 
 struct WorkspaceTables {

@@ -2,9 +2,10 @@
 
 #include <cmath>
 #include <limits>
-#include <string>
 
 #include <Eigen/Geometry>
+
+#include "varsfm/synthetic/synthetic_reconstruction.h"
 
 namespace varsfm {
 
@@ -39,16 +40,7 @@ double NearestHit(const std::vector<SurfaceQuad>& quads, const Eigen::Vector3d& 
 Reconstruction SparseModelFromRenderedScene(const RenderedScene& scene, double pixel_step) {
   Reconstruction rec;
   const int n = static_cast<int>(scene.images.size());
-  for (int i = 0; i < n; ++i) {
-    rec.AddCamera(scene.cameras[i]);
-    Image image;
-    image.image_id = static_cast<image_t>(i + 1);
-    image.camera_id = scene.cameras[i].camera_id;
-    image.name = "image" + std::to_string(i);
-    image.cam_from_world = scene.poses[i];
-    image.registered = true;
-    rec.AddImage(image);
-  }
+  for (int i = 0; i < n; ++i) AddTrueImage(i, scene.cameras[i], scene.poses[i], &rec);
   for (int i = 0; i < n; i += 2) {
     const Camera& cam = scene.cameras[i];
     const Eigen::Vector3d c = scene.poses[i].Center();

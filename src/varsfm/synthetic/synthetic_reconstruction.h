@@ -11,4 +11,9 @@ namespace varsfm {
 // outlier flags can be looked up), and every point seen at least twice gets its true position.
 Reconstruction ReconstructionFromSynthetic(const SyntheticScene& scene);
 
+// Adds `camera` and, for image `index` of a synthetic scene, the registered image index + 1
+// named "image<index>" at its true pose, without 2D points; returns it as stored in `rec`.
+Image& AddTrueImage(int index, const Camera& camera, const Rigid3d& cam_from_world,
+                    Reconstruction* rec);
+
 }  // namespace varsfm
