@@ -343,7 +343,7 @@ void AddRunCommand(CLI::App* app) {
 
 // evaluate: a COLMAP model against Strecha ground-truth cameras, and/or its renderings.
 void AddEvaluateCommand(CLI::App* app) {
-  auto options = std::make_shared<varsfm::EvaluateCommandOptions>();
+  auto options = std::make_shared<varsfm::EvaluateOptions>();
   CLI::App* cmd = app->add_subcommand(
       "evaluate", "accuracy against ground truth (--gt) and/or render vs. photo (--render)");
   cmd->add_option(
@@ -410,7 +410,7 @@ void AddDensifyCommand(CLI::App* app) {
 
 // mesh: dense oriented point cloud -> surface mesh with vertex colours (mesh.ply).
 void AddMeshCommand(CLI::App* app) {
-  auto options = std::make_shared<varsfm::MeshCommandOptions>();
+  auto options = std::make_shared<varsfm::MeshOptions>();
   CLI::App* cmd = app->add_subcommand("mesh", "surface mesh from a dense point cloud");
   cmd->add_option("--input", options->input, "point cloud PLY (dense.ply)")->required();
   cmd->add_option("--output", options->output, "output folder (mesh.ply)")->required();
@@ -474,7 +474,7 @@ void AddTextureCommand(CLI::App* app) {
 
 // render: the textured model seen from a registered camera (software rasteriser).
 void AddRenderCommand(CLI::App* app) {
-  auto options = std::make_shared<varsfm::RenderCommandOptions>();
+  auto options = std::make_shared<varsfm::RenderOptions>();
   CLI::App* cmd =
       app->add_subcommand("render", "render the textured model from a registered camera");
   cmd->add_option("--model", options->model, "output folder of texture (OUT)")->required();

@@ -106,7 +106,7 @@ TEST(MapStage, UnconnectedScenesGiveAModelEachLargestFirst) {
   MapOptions options;
   options.workspace = tmp.path() / "workspace.db";
   options.output = out;
-  const MapResult result = RunMapping(options);
+  const MapSummary result = RunMapping(options);
   EXPECT_EQ(result.reconstruction.NumRegisteredImages(), large.size());
   EXPECT_EQ(result.num_images, small.size() + large.size() + 1);
 

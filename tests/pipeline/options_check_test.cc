@@ -103,13 +103,13 @@ TEST(OptionsCheck, Densify) {
 }
 
 TEST(OptionsCheck, Mesh) {
-  ExpectEachRejected<MeshCommandOptions>(
-      {}, {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
-           {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
-           {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
-           {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
-           {"--max-depth", [](auto& o) { o.surface.max_depth = 17; }},
-           {"--threads", [](auto& o) { o.surface.num_threads = 0; }}});
+  ExpectEachRejected<MeshOptions>({},
+                                  {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
+                                   {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
+                                   {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
+                                   {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
+                                   {"--max-depth", [](auto& o) { o.surface.max_depth = 17; }},
+                                   {"--threads", [](auto& o) { o.surface.num_threads = 0; }}});
 }
 
 TEST(OptionsCheck, Texture) {
@@ -128,25 +128,24 @@ TEST(OptionsCheck, Texture) {
 }
 
 TEST(OptionsCheck, Render) {
-  RenderCommandOptions valid;
+  RenderOptions valid;
   valid.camera = "IMG_0001.jpg";
   valid.output = "view.png";
-  ExpectEachRejected<RenderCommandOptions>(valid,
-                                           {{"--camera", [](auto& o) { o.camera.clear(); }},
+  ExpectEachRejected<RenderOptions>(valid, {{"--camera", [](auto& o) { o.camera.clear(); }},
                                             {"--output", [](auto& o) { o.output.clear(); }}});
 }
 
 TEST(OptionsCheck, Evaluate) {
-  EvaluateCommandOptions valid;
+  EvaluateOptions valid;
   valid.gt_dir = "gt";
-  ExpectEachRejected<EvaluateCommandOptions>(
+  ExpectEachRejected<EvaluateOptions>(
       valid,
       {{"--inlier-threshold", [](auto& o) { o.evaluation.alignment.inlier_threshold = kNan; }},
        {"--inlier-threshold", [](auto& o) { o.evaluation.alignment.inlier_threshold = -1; }},
        {"max_trials", [](auto& o) { o.evaluation.alignment.max_trials = 0; }}});
-  EvaluateCommandOptions nothing;  // neither --gt nor --render
+  EvaluateOptions nothing;  // neither --gt nor --render
   EXPECT_THROW(nothing.Check(), OptionError);
-  EvaluateCommandOptions render_without_photos;
+  EvaluateOptions render_without_photos;
   render_without_photos.render = true;
   EXPECT_THROW(render_without_photos.Check(), OptionError);
 }

@@ -236,7 +236,7 @@ TEST(DisplayModel, NotAGlbIsOneLineError) {
 TEST(Report, PageIsSelfContained) {
   TempDir tmp("report_page");
   WriteSyntheticOutput(tmp.path());
-  const ReportResult result = WriteReport({.output = tmp.path()});
+  const ReportSummary result = WriteReport({.output = tmp.path()});
   ASSERT_TRUE(result.has_3d_view) << "three.js (libjs-three) is a build dependency";
   EXPECT_EQ(result.file, tmp.path() / "report.html");
   EXPECT_EQ(std::filesystem::file_size(result.file), result.bytes);
@@ -257,7 +257,7 @@ TEST(Report, WithoutThreeJsThePageSaysWhatToInstall) {
   TempDir tmp("report_no_three");
   WriteSyntheticOutput(tmp.path(), {.with_glb = false});
   std::filesystem::create_directories(tmp.path() / "no_three");
-  const ReportResult result =
+  const ReportSummary result =
       WriteReport({.output = tmp.path(), .three_js_dir = tmp.path() / "no_three"});
   EXPECT_FALSE(result.has_3d_view);
   const std::string html = ReadText(result.file);

@@ -16,7 +16,7 @@ void DemoOptions::Check() const {
   run.Check();
 }
 
-DemoResult RunDemo(const DemoOptions& options) {
+DemoSummary RunDemo(const DemoOptions& options) {
   options.Check();
   const auto image_dir = options.output / "images";
   const auto gt_dir = options.output / "gt";
@@ -30,7 +30,7 @@ DemoResult RunDemo(const DemoOptions& options) {
   RunOptions run = options.run;
   run.input = image_dir;
   run.output = options.output;
-  DemoResult result;
+  DemoSummary result;
   result.run = RunAll(run);
   result.evaluation =
       EvaluateAgainstGroundTruth(result.run.map.reconstruction, ReadStrechaGroundTruth(gt_dir));

@@ -19,11 +19,11 @@ struct DemoOptions {
   void Check() const;
 };
 
-struct DemoResult {
-  RunResult run;
+struct DemoSummary {
+  RunSummary run;
   EvaluationReport evaluation;
 };
 
-DemoResult RunDemo(const DemoOptions& options);
+DemoSummary RunDemo(const DemoOptions& options);
 
 }  // namespace varsfm

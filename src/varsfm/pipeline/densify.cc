@@ -16,7 +16,7 @@
 namespace varsfm {
 namespace {
 
-void WriteSummary(const std::filesystem::path& file, const DensifyCommandResult& r,
+void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
                   double seconds_check) {
   const DensifyStats& st = r.stats;
   const nlohmann::json summary = {
@@ -56,7 +56,7 @@ void DensifyCommandOptions::Check() const {
   CheckHoldout(holdout);
 }
 
-DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
+DensifySummary RunDensify(const DensifyCommandOptions& options) {
   options.Check();
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
@@ -73,7 +73,7 @@ DensifyCommandResult RunDensify(const DensifyCommandOptions& options) {
          options.sparse.string(), rec.NumRegisteredImages());
 
   const auto load = [&](image_t id) { return ReadModelPhoto(rec, id, options.image_dir); };
-  DensifyCommandResult result;
+  DensifySummary result;
   result.method = options.dense.method;
   PointVisibility visibility;
   const PointCloud cloud = Densify(rec, load, options.dense, &result.stats, &visibility);

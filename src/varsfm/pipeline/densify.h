@@ -25,7 +25,7 @@ struct DensifyCommandOptions {
   void Check() const;
 };
 
-struct DensifyCommandResult {
+struct DensifySummary {
   DenseMethod method = DenseMethod::kPatchMatch;
   DensifyStats stats;
   SparseDistanceStats quality;  // the dense points against the sparse model
@@ -35,6 +35,6 @@ struct DensifyCommandResult {
 
 // Throws varsfm::Error (one line) for a missing/unreadable model, a model with fewer than two
 // registered images, a missing photo or one whose size differs from its camera.
-DensifyCommandResult RunDensify(const DensifyCommandOptions& options);
+DensifySummary RunDensify(const DensifyCommandOptions& options);
 
 }  // namespace varsfm

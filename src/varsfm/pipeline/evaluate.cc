@@ -36,7 +36,7 @@ std::filesystem::path OutputFolderOf(const std::filesystem::path& model_dir) {
 
 }  // namespace
 
-void EvaluateCommandOptions::Check() const {
+void EvaluateOptions::Check() const {
   evaluation.Check();
   CheckHoldout(holdout);
   if (gt_dir.empty() && !render)
@@ -46,7 +46,7 @@ void EvaluateCommandOptions::Check() const {
     throw OptionError("evaluate --render: --images (the photos) is required");
 }
 
-EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
+EvaluationReport RunEvaluation(const EvaluateOptions& options) {
   options.evaluation.Check();
   // Check both folders before reading either, so the message names the one that is wrong.
   if (!std::filesystem::is_directory(options.model_dir))
@@ -61,12 +61,12 @@ EvaluationReport RunEvaluation(const EvaluateCommandOptions& options) {
   return report;
 }
 
-std::string RunEvaluateCommand(const EvaluateCommandOptions& options) {
+std::string RunEvaluateCommand(const EvaluateOptions& options) {
   options.Check();
   std::string text;
   nlohmann::json json;
   if (!options.gt_dir.empty()) {
-    EvaluateCommandOptions gt = options;
+    EvaluateOptions gt = options;
     gt.json_path.clear();
     const EvaluationReport report = RunEvaluation(gt);
     text += FormatReport(report);

@@ -10,7 +10,7 @@
 
 namespace varsfm {
 
-struct EvaluateCommandOptions {
+struct EvaluateOptions {
   std::filesystem::path model_dir;
   std::filesystem::path gt_dir;
   std::filesystem::path json_path;  // empty: no JSON
@@ -28,12 +28,12 @@ struct EvaluateCommandOptions {
 };
 
 // Throws varsfm::Error (one line) when a folder is missing or unreadable.
-EvaluationReport RunEvaluation(const EvaluateCommandOptions& options);
+EvaluationReport RunEvaluation(const EvaluateOptions& options);
 
 // The whole `evaluate` command: ground truth when gt_dir is set, renderings when render is set
 // (at least one). Returns the readable report. The JSON holds the ground-truth report at the top
 // level (as without --render) with the rendering report under "render", or only the rendering
 // report when there is no ground truth. Throws varsfm::Error (one line).
-std::string RunEvaluateCommand(const EvaluateCommandOptions& options);
+std::string RunEvaluateCommand(const EvaluateOptions& options);
 
 }  // namespace varsfm

@@ -221,7 +221,7 @@ void MapOptions::Check() const {
   CheckAtLeast("min_pair_inliers", min_pair_inliers, 1);
 }
 
-MapResult RunMapping(const MapOptions& options) {
+MapSummary RunMapping(const MapOptions& options) {
   options.Check();
   // Before the work: a mistyped folder would otherwise leave every point grey without a word.
   if (!options.image_dir.empty() && !std::filesystem::is_directory(options.image_dir))
@@ -251,7 +251,7 @@ MapResult RunMapping(const MapOptions& options) {
   Timer mapping;
   MultiModelResult built =
       ReconstructAllModels(std::move(ws.reconstruction), ws.graph, ws.planar_pairs, mapper_options);
-  MapResult result;
+  MapSummary result;
   result.seconds_mapping = mapping.Seconds();
   progress.Finish();
   if (built.models.empty()) Fail("map: {}", built.message);

@@ -26,7 +26,7 @@ struct MapOptions {
   void Check() const;
 };
 
-struct MapResult {
+struct MapSummary {
   // Model 0 (OUT/sparse/0, the one the other outputs describe): the largest. It holds every
   // image when it was the first built, else only those left for it (num_images counts all).
   MapperSummary mapper;
@@ -43,6 +43,6 @@ struct MapResult {
 // Loads the workspace, reconstructs, writes the outputs. Throws varsfm::Error (one line) when the
 // workspace is missing or holds fewer than two images with features, or when no pair can
 // initialise: nothing is written in that case (an existing OUT is left as it was).
-MapResult RunMapping(const MapOptions& options);
+MapSummary RunMapping(const MapOptions& options);
 
 }  // namespace varsfm

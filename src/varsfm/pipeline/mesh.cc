@@ -10,13 +10,13 @@
 
 namespace varsfm {
 
-void MeshCommandOptions::Check() const { surface.Check(); }
+void MeshOptions::Check() const { surface.Check(); }
 
-MeshCommandResult RunMesh(const MeshCommandOptions& options) {
+MeshSummary RunMesh(const MeshOptions& options) {
   options.Check();
   Timer timer;
   const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method, options.sparse);
-  MeshCommandResult result;
+  MeshSummary result;
   TriangleMesh mesh;
   try {
     mesh = ReconstructSurface(cloud, options.surface, &result.stats);
@@ -42,7 +42,7 @@ MeshCommandResult RunMesh(const MeshCommandOptions& options) {
   return result;
 }
 
-nlohmann::json MeshSummary(const MeshCommandResult& result) {
+nlohmann::json MeshSummaryJson(const MeshSummary& result) {
   const MeshQuality& q = result.stats.quality;
   return {{"points", result.stats.input_points},       {"depth", result.stats.depth},
           {"vertices", result.num_vertices},           {"faces", result.num_faces},

@@ -11,7 +11,7 @@
 
 namespace varsfm {
 
-struct MeshCommandOptions {
+struct MeshOptions {
   std::filesystem::path input;   // PLY point cloud (normals needed for Poisson)
   std::filesystem::path output;  // folder; OUT/mesh.ply is written
   // The sparse model the cloud was made from (a model folder or its parent): the camera centres
@@ -25,7 +25,7 @@ struct MeshCommandOptions {
   void Check() const;
 };
 
-struct MeshCommandResult {
+struct MeshSummary {
   SurfaceStats stats;
   size_t num_vertices = 0;
   size_t num_faces = 0;
@@ -35,10 +35,10 @@ struct MeshCommandResult {
 
 // Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
 // without normals when the method is Poisson, or a mesh that fails the check (mesh_quality.h).
-MeshCommandResult RunMesh(const MeshCommandOptions& options);
+MeshSummary RunMesh(const MeshOptions& options);
 
 // The figures summary.json keeps of a mesh stage: points, octree depth, vertices, faces, median
 // vertex-to-point distance, the cloud's extent, their ratio and seconds.
-nlohmann::json MeshSummary(const MeshCommandResult& result);
+nlohmann::json MeshSummaryJson(const MeshSummary& result);
 
 }  // namespace varsfm

@@ -64,12 +64,12 @@ void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
 
 }  // namespace
 
-void RenderCommandOptions::Check() const {
+void RenderOptions::Check() const {
   if (camera.empty()) FailOption("--camera", "an image name of the sparse model", "''");
   if (output.empty()) FailOption("--output", "an image file", "''");
 }
 
-void RunRender(const RenderCommandOptions& options) {
+void RunRender(const RenderOptions& options) {
   options.Check();
   const fs::path sparse = options.sparse.empty() ? options.model / "sparse" : options.sparse;
   const fs::path textured =

@@ -10,7 +10,7 @@
 
 namespace varsfm {
 
-struct RenderCommandOptions {
+struct RenderOptions {
   std::filesystem::path model;     // OUT of `texture` (OUT/textured/model.obj, OUT/sparse)
   std::filesystem::path sparse;    // empty: OUT/sparse (its model 0)
   std::filesystem::path textured;  // OBJ file or its folder; empty: OUT/textured/model.obj
@@ -28,7 +28,7 @@ struct RenderCommandOptions {
 
 // Throws varsfm::Error (one line) for a missing model, an unknown image name, or an unwritable
 // output.
-void RunRender(const RenderCommandOptions& options);
+void RunRender(const RenderOptions& options);
 
 struct RenderEvaluationOptions {
   std::filesystem::path sparse;      // COLMAP model folder (or its parent: model 0)

@@ -5,9 +5,9 @@
 
 namespace varsfm {
 
-ReportResult RunReport(const ReportOptions& options) {
+ReportSummary RunReport(const ReportOptions& options) {
   Timer timer;
-  const ReportResult result = WriteReport(options);
+  const ReportSummary result = WriteReport(options);
   info("report: wrote {} ({:.1f} MB{}) in {:.2f} s", result.file.string(), result.bytes / 1e6,
        result.has_3d_view ? "" : ", no 3D view: three.js not found", timer.Seconds());
   return result;

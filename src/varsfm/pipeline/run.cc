@@ -39,7 +39,7 @@ namespace {
 // The stages that make the sparse model: extract, match, map. Returns the folder the photos
 // were read from (a video's keyframes: their folder).
 std::filesystem::path RunSparseStages(const RunOptions& options, const bool video,
-                                      RunResult* result, MatchStrategy* strategy) {
+                                      RunSummary* result, MatchStrategy* strategy) {
   const std::filesystem::path workspace = options.output / "workspace.db";
   Timer timer;
   ExtractOptions extract = options.extract;
@@ -71,7 +71,7 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
 
 }  // namespace
 
-RunResult RunAll(const RunOptions& options) {
+RunSummary RunAll(const RunOptions& options) {
   namespace fs = std::filesystem;
   options.Check();
   if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
@@ -83,7 +83,7 @@ RunResult RunAll(const RunOptions& options) {
   const bool created_output = !fs::exists(options.output);
   fs::create_directories(options.output);
 
-  RunResult result;
+  RunSummary result;
   MatchStrategy strategy = options.matching;
   fs::path image_dir;
   try {
@@ -125,14 +125,14 @@ RunResult RunAll(const RunOptions& options) {
     add_seconds("densify", result.seconds_densify);
   }
   if (runs(RunStage::kMesh)) {
-    MeshCommandOptions mesh;
+    MeshOptions mesh;
     mesh.input = options.output / "dense.ply";
     mesh.output = options.output;
     mesh.sparse = options.output / "sparse" / "0";
     mesh.surface = options.surface;
-    const MeshCommandResult meshed = RunMesh(mesh);
+    const MeshSummary meshed = RunMesh(mesh);
     result.seconds_mesh = meshed.seconds;
-    summary["mesh"] = MeshSummary(meshed);
+    summary["mesh"] = MeshSummaryJson(meshed);
     add_seconds("mesh", result.seconds_mesh);
   }
   if (runs(RunStage::kTexture)) {
@@ -143,7 +143,7 @@ RunResult RunAll(const RunOptions& options) {
     texture.output = options.output;
     texture.texture = options.texture;
     texture.holdout = options.holdout;
-    const TextureCommandResult textured = RunTexture(texture);
+    const TextureSummary textured = RunTexture(texture);
     result.seconds_texture = textured.seconds;
     summary["texture"] = {{"faces", textured.stats.num_faces},
                           {"textured_faces", textured.stats.num_textured_faces},

@@ -46,8 +46,8 @@ struct RunOptions {
   void Check() const;
 };
 
-struct RunResult {
-  MapResult map;
+struct RunSummary {
+  MapSummary map;
   double seconds_extract = 0;
   double seconds_match = 0;
   double seconds_map = 0;
@@ -65,6 +65,6 @@ struct RunResult {
 // created it (a folder that existed is left as it was, but for OUT/workspace.db). Later stages
 // throw as their commands do, and the sparse model and the outputs of the stages before stay in
 // OUT.
-RunResult RunAll(const RunOptions& options);
+RunSummary RunAll(const RunOptions& options);
 
 }  // namespace varsfm

@@ -18,7 +18,7 @@ void TextureCommandOptions::Check() const {
   CheckHoldout(holdout);
 }
 
-TextureCommandResult RunTexture(const TextureCommandOptions& options) {
+TextureSummary RunTexture(const TextureCommandOptions& options) {
   options.Check();
   Timer timer;
   if (!std::filesystem::is_directory(options.sparse))
@@ -32,7 +32,7 @@ TextureCommandResult RunTexture(const TextureCommandOptions& options) {
   if (rec.NumRegisteredImages() == 0)
     Fail("sparse model {} has no registered images to texture from", options.sparse.string());
 
-  TextureCommandResult result;
+  TextureSummary result;
   const TexturedMesh textured =
       TextureFromModel(mesh, rec, options.image_dir, options.texture, &result.stats);
   WriteTexturedObj(options.output / "textured", textured, "model");

@@ -21,13 +21,13 @@ struct TextureCommandOptions {
   void Check() const;
 };
 
-struct TextureCommandResult {
+struct TextureSummary {
   TextureStats stats;
   double seconds = 0;
 };
 
 // Throws varsfm::Error (one line) for a missing/empty mesh, a missing model or one without
 // registered images, or a missing photo / one whose size differs from its camera.
-TextureCommandResult RunTexture(const TextureCommandOptions& options);
+TextureSummary RunTexture(const TextureCommandOptions& options);
 
 }  // namespace varsfm

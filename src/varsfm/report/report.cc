@@ -17,7 +17,7 @@ void ReportOptions::Check() const {
   if (data.max_view_points == 0) Fail("report: the 3D view needs at least one point");
 }
 
-ReportResult WriteReport(const ReportOptions& options) {
+ReportSummary WriteReport(const ReportOptions& options) {
   options.Check();
   const std::optional<ThreeJs> three = LoadThreeJs(options.three_js_dir);
   if (!three) warn("report: three.js not found (install libjs-three); the report has no 3D view");
@@ -29,7 +29,7 @@ ReportResult WriteReport(const ReportOptions& options) {
     Fail("{}: unexpected content ({})", (options.output / "summary.json").string(), e.what());
   }
 
-  ReportResult result;
+  ReportSummary result;
   result.file = options.output / "report.html";
   result.bytes = html.size();
   result.has_3d_view = three.has_value();

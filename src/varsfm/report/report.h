@@ -20,7 +20,7 @@ struct ReportOptions {
   void Check() const;
 };
 
-struct ReportResult {
+struct ReportSummary {
   std::filesystem::path file;  // OUT/report.html
   size_t bytes = 0;
   bool has_3d_view = false;  // three.js was found and inlined
@@ -29,6 +29,6 @@ struct ReportResult {
 // Writes OUT/report.html (through a temporary file renamed into place, so an existing report is
 // replaced only by a complete one). Throws varsfm::Error as CollectReportData does, or when the
 // file cannot be written.
-ReportResult WriteReport(const ReportOptions& options);
+ReportSummary WriteReport(const ReportOptions& options);
 
 }  // namespace varsfm
