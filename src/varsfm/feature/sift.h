@@ -15,9 +15,8 @@ struct SiftOptions {
   int max_image_size = 3200;
   // OpenCV's contrast threshold (in units of a [0,1] image, divided by OpenCV by the number of
   // layers, 3); lower gives more, weaker features. 0.02 is COLMAP's peak threshold (0.02 / 3);
-  // 0.013 measured better on fountain-P11 (bench/features_vs_colmap.sh): every image reaches
-  // the 8192-location cap, 104,763 descriptors and 35,746 verified inliers on adjacent pairs
-  // (0.02: 88,192 and 30,926; COLMAP 3.8: 94,691 and 34,058).
+  // 0.013 gives more verified inliers on fountain-P11, where every image then reaches the
+  // 8192-location cap (bench/features_vs_colmap.sh, docs/measurements.md).
   double contrast_threshold = 0.013;
   double edge_threshold = 10.0;
 

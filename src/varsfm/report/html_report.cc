@@ -115,7 +115,7 @@ std::string ReportHtml(const ReportData& data, const std::optional<ThreeJs>& thr
     html += "<script type=\"application/json\" id=\"varsfm-scene\">" +
             JsonForScript(ViewerSceneJson(data)) + "</script>\n";
     // zlib-compressed (the browser's DecompressionStream("deflate") reads it): the quantised
-    // geometry shrinks by a third (fountain-P11: 3.2 -> 2.1 MB before base64).
+    // geometry shrinks by a third (docs/measurements.md).
     if (!data.glb.empty())
       html +=
           "<script type=\"application/octet-stream\" id=\"varsfm-glb\" "

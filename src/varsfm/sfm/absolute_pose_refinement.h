@@ -4,9 +4,8 @@
 // Solved by the project's bundle-adjustment solver (ba/schur_solver.h, Levenberg-Marquardt
 // as Ceres', the same cost and Cauchy loss), not through a ceres::Problem: a registration
 // refines two hypotheses of ~1000 correspondences, and building, evaluating and destroying a
-// ceres::Problem took two thirds of the registration's time. bench/scale's 1000-image street
-// (2026-12-02): registration 19.8 -> 12.2 s of the mapping, the same model (tests compare the
-// minimum with Ceres').
+// ceres::Problem took two thirds of the registration's time (docs/measurements.md). The minimum
+// is Ceres' (tests compare them).
 #include <vector>
 
 #include <Eigen/Core>

@@ -347,16 +347,15 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   // truncated squared reprojection error over all its 2D-3D correspondences (MSAC's cost).
   // Scales a factor sqrt(2) apart from 1, widened towards the better side until the minimum is
   // bracketed (x0.5 .. x2 the prior, i.e. 0.6 .. 2.4 x the larger image side without EXIF), then
-  // a parabola in log(scale) through the bracket.
-  // entry-P10 (true f 920 px, prior 1229 px): grown from the prior, the model's focal lengths
-  // drifted to 800-3200 px and its final adjustment took 51 + 50 iterations (5.4 s map); the
-  // search picks 907 px, the final adjustment takes 16 iterations (2.4 s map).
+  // a parabola in log(scale) through the bracket. On entry-P10 (true f 920 px, prior 1229 px)
+  // the search picks 907 px, where a model grown from the prior lets its focal lengths drift
+  // (docs/measurements.md).
   const std::vector<image_t> next = NextImageCandidates(*rec);
   if (next.empty()) return;
   const image_t probe = next.front();
   // A trial skips the mapper's two-view adjustment (the calibration's own, with the focal
-  // lengths held, has refined poses and points): fountain-P11-zoom's initialisation 0.65 -> 0.56 s,
-  // and every trial is scored on the same footing.
+  // lengths held, has refined poses and points): it saves time, and every trial is scored on
+  // the same footing.
   const auto evaluate = [&](double log_scale) {
     Reconstruction trial = empty;
     MapperSummary ignored;
