@@ -1,9 +1,8 @@
 #include "varsfm/export/nerfstudio.h"
 
-#include <fstream>
-
 #include "varsfm/export/exported_images.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
@@ -68,9 +67,7 @@ NerfstudioExportSummary ExportNerfstudio(const Reconstruction& reconstruction,
       std::filesystem::copy_file(image_dir / name, dir / "images" / name);
     }
     WritePly(reconstruction, dir / "sparse_pc.ply");
-    std::ofstream file(dir / "transforms.json");
-    file << transforms.dump(2) << "\n";
-    if (!file.flush()) Fail("{}: cannot write", (output / "transforms.json").string());
+    WriteJsonAtomically(dir / "transforms.json", transforms);
   });
   return {image_ids.size(), reconstruction.points3D().size()};
 }

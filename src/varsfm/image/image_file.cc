@@ -14,6 +14,7 @@
 #include "varsfm/image/opencv_io_plugin.h"
 #include "varsfm/image/orientation.h"
 #include "varsfm/image/png_codec.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -68,14 +69,6 @@ void RequirePlausibleSize(const std::filesystem::path& path, const std::vector<u
   if (width * height > kMaxImagePixels)
     Fail("image {} is {} x {} pixels, more than the {} varsfm decodes", path.string(), width,
          height, kMaxImagePixels);
-}
-
-bool WriteFileBytes(const std::filesystem::path& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file.write(reinterpret_cast<const char*>(bytes.data()),
-             static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  return static_cast<bool>(file);
 }
 
 }  // namespace
@@ -141,7 +134,10 @@ void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
     encoded = EncodeJpeg(image, options.jpeg_quality, &bytes);
   }
   if (encoded) {
-    if (!WriteFileBytes(path, bytes)) Fail("cannot write image {}", path.string());
+    WriteFileAtomically(path, [&](std::ostream& out) {
+      out.write(reinterpret_cast<const char*>(bytes.data()),
+                static_cast<std::streamsize>(bytes.size()));
+    });
     return;
   }
   // Other formats, and image types the direct encoders do not take (OpenCV converts them).

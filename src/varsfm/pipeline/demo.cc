@@ -1,8 +1,7 @@
 #include "varsfm/pipeline/demo.h"
 
-#include <fstream>
-
 #include "varsfm/eval/ground_truth.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
@@ -31,10 +30,10 @@ DemoSummary RunDemo(const DemoOptions& options) {
   run.input = image_dir;
   run.output = options.output;
   DemoSummary result;
-  result.run = RunAll(run);
+  result.run = RunAll(run, OptionsCheck::kDoneByCaller);
   result.evaluation =
       EvaluateAgainstGroundTruth(result.run.map.reconstruction, ReadStrechaGroundTruth(gt_dir));
-  std::ofstream(options.output / "evaluation.json") << ToJson(result.evaluation).dump(2) << "\n";
+  WriteJsonAtomically(options.output / "evaluation.json", ToJson(result.evaluation));
   fmt::print("{}", FormatReport(result.evaluation));
   return result;
 }

@@ -46,7 +46,7 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
         {"median_distance_to_nearest_sparse_point", r.quality.median_nearest},
         {"median_distance_to_local_sparse_plane", r.quality.median_plane},
         {"fraction_within_1_percent_of_depth", r.quality.fraction_within_1pc}}}};
-  WriteFileAtomically(file, [&](std::ostream& out) { out << summary.dump(2) << "\n"; });
+  WriteJsonAtomically(file, summary);
 }
 
 }  // namespace
@@ -56,8 +56,8 @@ void DensifyCommandOptions::Check() const {
   CheckHoldout(holdout);
 }
 
-DensifySummary RunDensify(const DensifyCommandOptions& options) {
-  options.Check();
+DensifySummary RunDensify(const DensifyCommandOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
     Fail("workspace {} does not exist", options.workspace.string());

@@ -7,6 +7,7 @@
 
 #include "varsfm/dense/densify.h"
 #include "varsfm/dense/sparse_distance.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -35,6 +36,7 @@ struct DensifySummary {
 
 // Throws varsfm::Error (one line) for a missing/unreadable model, a model with fewer than two
 // registered images, a missing photo or one whose size differs from its camera.
-DensifySummary RunDensify(const DensifyCommandOptions& options);
+DensifySummary RunDensify(const DensifyCommandOptions& options,
+                          OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

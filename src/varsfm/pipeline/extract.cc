@@ -344,8 +344,8 @@ void ExtractOptions::Check() const {
   CheckAtLeast("--threads", threads, 0);
 }
 
-ExtractSummary RunExtraction(const ExtractOptions& options) {
-  options.Check();
+ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   if (options.workspace.empty()) Fail("no workspace given");
   ExtractSummary summary;

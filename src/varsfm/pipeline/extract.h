@@ -7,6 +7,7 @@
 #include "varsfm/feature/sift.h"
 #include "varsfm/image/video_keyframes.h"
 #include "varsfm/pipeline/video_frames.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -45,6 +46,7 @@ struct ExtractSummary {
 // keypoints, descriptors) in name order, so image ids follow the names and an interrupted run
 // leaves only whole images. Each image gets its own SIMPLE_RADIAL camera as COLMAP's extractor
 // writes it: f = EXIF focal (pixels) if known, else 1.2 max(w, h); principal point at the centre.
-ExtractSummary RunExtraction(const ExtractOptions& options);
+ExtractSummary RunExtraction(const ExtractOptions& options,
+                             OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -1,7 +1,6 @@
 #include "varsfm/pipeline/map.h"
 
 #include <algorithm>
-#include <fstream>
 #include <future>
 #include <optional>
 #include <set>
@@ -13,6 +12,7 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -221,8 +221,8 @@ void MapOptions::Check() const {
   CheckAtLeast("min_pair_inliers", min_pair_inliers, 1);
 }
 
-MapSummary RunMapping(const MapOptions& options) {
-  options.Check();
+MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   // Before the work: a mistyped folder would otherwise leave every point grey without a word.
   if (!options.image_dir.empty() && !std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
@@ -307,7 +307,7 @@ MapSummary RunMapping(const MapOptions& options) {
   // Where the photos are, so that later commands (export) need not be told again.
   if (!options.image_dir.empty())
     summary["image_dir"] = std::filesystem::absolute(options.image_dir).string();
-  std::ofstream(options.output / "summary.json") << summary.dump(2) << "\n";
+  WriteJsonAtomically(options.output / "summary.json", summary);
   LogModels(built, num_images, result.seconds);
   if (built.models.size() > 1)
     info("map: {} models in {}/sparse/0 .. {}, {:.2f} s", built.models.size(),

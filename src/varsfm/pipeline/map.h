@@ -11,6 +11,7 @@
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/sfm/incremental_mapper.h"
 #include "varsfm/sfm/multi_model_mapper.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -43,6 +44,6 @@ struct MapSummary {
 // Loads the workspace, reconstructs, writes the outputs. Throws varsfm::Error (one line) when the
 // workspace is missing or holds fewer than two images with features, or when no pair can
 // initialise: nothing is written in that case (an existing OUT is left as it was).
-MapSummary RunMapping(const MapOptions& options);
+MapSummary RunMapping(const MapOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

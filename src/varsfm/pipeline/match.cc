@@ -304,8 +304,8 @@ void MatchOptions::Check() const {
   CheckGreaterThan("commit_interval", commit_interval, 0);
 }
 
-MatchSummary RunMatching(const MatchOptions& options) {
-  options.Check();
+MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   // Checked before opening: Database would create a missing file.
   if (!std::filesystem::is_regular_file(options.workspace)) {
     Fail("workspace {} does not exist (run `varsfm extract` first)", options.workspace.string());

@@ -13,6 +13,7 @@
 #include "varsfm/matching/geometric_verification.h"
 #include "varsfm/matching/image_retrieval.h"
 #include "varsfm/matching/vocabulary_tree.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
@@ -78,6 +79,6 @@ struct MatchSummary {
 // geometry are skipped, so an interrupted run resumes; a pair's matches and geometry are
 // committed together, pairs as they are verified, at least every options.commit_interval
 // seconds.
-MatchSummary RunMatching(const MatchOptions& options);
+MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -12,8 +12,8 @@ namespace varsfm {
 
 void MeshOptions::Check() const { surface.Check(); }
 
-MeshSummary RunMesh(const MeshOptions& options) {
-  options.Check();
+MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method, options.sparse);
   MeshSummary result;

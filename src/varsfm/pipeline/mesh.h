@@ -8,6 +8,7 @@
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -35,7 +36,7 @@ struct MeshSummary {
 
 // Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
 // without normals when the method is Poisson, or a mesh that fails the check (mesh_quality.h).
-MeshSummary RunMesh(const MeshOptions& options);
+MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 // The figures summary.json keeps of a mesh stage: points, octree depth, vertices, faces, median
 // vertex-to-point distance, the cloud's extent, their ratio and seconds.

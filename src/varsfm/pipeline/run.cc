@@ -4,6 +4,7 @@
 #include <string>
 
 #include "varsfm/scene/holdout.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
@@ -47,7 +48,7 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   extract.image_dir.clear();
   extract.video.clear();
   (video ? extract.video : extract.image_dir) = options.input;
-  const ExtractSummary extracted = RunExtraction(extract);
+  const ExtractSummary extracted = RunExtraction(extract, OptionsCheck::kDoneByCaller);
   result->seconds_extract = timer.Seconds();
 
   timer.Restart();
@@ -55,7 +56,7 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   match.workspace = workspace;
   match.strategy = options.matching;
   if (video && match.strategy == MatchStrategy::kAuto) match.strategy = MatchStrategy::kSequential;
-  *strategy = RunMatching(match).strategy;
+  *strategy = RunMatching(match, OptionsCheck::kDoneByCaller).strategy;
   result->seconds_match = timer.Seconds();
 
   timer.Restart();
@@ -64,16 +65,16 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   map.output = options.output;
   map.image_dir = extracted.image_dir;
   if (video) map.mapper.sequential_order = true;
-  result->map = RunMapping(map);
+  result->map = RunMapping(map, OptionsCheck::kDoneByCaller);
   result->seconds_map = timer.Seconds();
   return extracted.image_dir;
 }
 
 }  // namespace
 
-RunSummary RunAll(const RunOptions& options) {
+RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   namespace fs = std::filesystem;
-  options.Check();
+  if (check == OptionsCheck::kByStage) options.Check();
   if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
   const bool video = fs::is_regular_file(options.input);
   if (options.output.empty()) Fail("no output folder given");
@@ -102,7 +103,7 @@ RunSummary RunAll(const RunOptions& options) {
   summary["seconds"]["match"] = result.seconds_match;
   summary["seconds"]["map"] = result.seconds_map;
   summary["matching_strategy"] = std::string(MatchStrategyName(strategy));
-  std::ofstream(summary_path) << summary.dump(2) << "\n";
+  WriteJsonAtomically(summary_path, summary);
 
   // Unconnected images give further models (sparse/1, ...); the later stages use model 0.
   const size_t num_models = 1 + result.map.more_models.size();
@@ -112,7 +113,7 @@ RunSummary RunAll(const RunOptions& options) {
   // Dense cloud, surface and texture, each stage's time added to the summary as it ends.
   const auto add_seconds = [&](const char* stage, double seconds) {
     summary["seconds"][stage] = seconds;
-    std::ofstream(summary_path) << summary.dump(2) << "\n";
+    WriteJsonAtomically(summary_path, summary);
   };
   if (runs(RunStage::kDense)) {
     DensifyCommandOptions densify;
@@ -121,7 +122,7 @@ RunSummary RunAll(const RunOptions& options) {
     densify.output = options.output;
     densify.dense = options.dense;
     densify.holdout = options.holdout;
-    result.seconds_densify = RunDensify(densify).seconds;
+    result.seconds_densify = RunDensify(densify, OptionsCheck::kDoneByCaller).seconds;
     add_seconds("densify", result.seconds_densify);
   }
   if (runs(RunStage::kMesh)) {
@@ -130,7 +131,7 @@ RunSummary RunAll(const RunOptions& options) {
     mesh.output = options.output;
     mesh.sparse = options.output / "sparse" / "0";
     mesh.surface = options.surface;
-    const MeshSummary meshed = RunMesh(mesh);
+    const MeshSummary meshed = RunMesh(mesh, OptionsCheck::kDoneByCaller);
     result.seconds_mesh = meshed.seconds;
     summary["mesh"] = MeshSummaryJson(meshed);
     add_seconds("mesh", result.seconds_mesh);
@@ -143,7 +144,7 @@ RunSummary RunAll(const RunOptions& options) {
     texture.output = options.output;
     texture.texture = options.texture;
     texture.holdout = options.holdout;
-    const TextureSummary textured = RunTexture(texture);
+    const TextureSummary textured = RunTexture(texture, OptionsCheck::kDoneByCaller);
     result.seconds_texture = textured.seconds;
     summary["texture"] = {{"faces", textured.stats.num_faces},
                           {"textured_faces", textured.stats.num_textured_faces},

@@ -14,6 +14,7 @@
 #include "varsfm/pipeline/render.h"
 #include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/texture.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -65,6 +66,6 @@ struct RunSummary {
 // created it (a folder that existed is left as it was, but for OUT/workspace.db). Later stages
 // throw as their commands do, and the sparse model and the outputs of the stages before stay in
 // OUT.
-RunSummary RunAll(const RunOptions& options);
+RunSummary RunAll(const RunOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -18,8 +18,8 @@ void TextureCommandOptions::Check() const {
   CheckHoldout(holdout);
 }
 
-TextureSummary RunTexture(const TextureCommandOptions& options) {
-  options.Check();
+TextureSummary RunTexture(const TextureCommandOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   if (!std::filesystem::is_directory(options.sparse))
     Fail("sparse model folder {} does not exist", options.sparse.string());

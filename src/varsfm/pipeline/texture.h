@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "varsfm/texture/model_texture.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -28,6 +29,7 @@ struct TextureSummary {
 
 // Throws varsfm::Error (one line) for a missing/empty mesh, a missing model or one without
 // registered images, or a missing photo / one whose size differs from its camera.
-TextureSummary RunTexture(const TextureCommandOptions& options);
+TextureSummary RunTexture(const TextureCommandOptions& options,
+                          OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

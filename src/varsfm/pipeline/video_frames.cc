@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -75,8 +76,9 @@ KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& vi
     fs::create_directories(folder, ec);
     if (ec) Fail("cannot create folder {}: {}", folder.string(), ec.message());
     if (created) {
-      std::ofstream(folder / kIdentityFile) << identity << "\n"
-                                            << fs::absolute(video).string() << "\n";
+      WriteFileAtomically(folder / kIdentityFile, [&](std::ostream& out) {
+        out << identity << "\n" << fs::absolute(video).string() << "\n";
+      });
     }
     summary = ExtractKeyframes(video, folder, options);
   } catch (...) {

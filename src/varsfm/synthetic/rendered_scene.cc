@@ -1,7 +1,6 @@
 #include "varsfm/synthetic/rendered_scene.h"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <numbers>
 
@@ -9,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "varsfm/image/image_file.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 
@@ -226,16 +226,16 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
     K(1, 2) -= 0.5;
     const Eigen::Matrix3d R = scene.poses[i].R().transpose();  // camera-to-world
     const Eigen::Vector3d C = scene.poses[i].Center();
-    std::ofstream out(gt_dir / (name + ".camera"));
-    out.precision(17);
-    for (int r = 0; r < 3; ++r) out << K(r, 0) << " " << K(r, 1) << " " << K(r, 2) << "\n";
     if (c.HasDistortion())
       Fail("the Strecha layout holds no lens distortion; render with k1 = k2 = 0");
-    out << "0 0 0\n";
-    for (int r = 0; r < 3; ++r) out << R(r, 0) << " " << R(r, 1) << " " << R(r, 2) << "\n";
-    out << C.x() << " " << C.y() << " " << C.z() << "\n";
-    out << c.width << " " << c.height << "\n";
-    if (!out) Fail("cannot write {}", (gt_dir / (name + ".camera")).string());
+    WriteFileAtomically(gt_dir / (name + ".camera"), [&](std::ostream& out) {
+      out.precision(17);
+      for (int r = 0; r < 3; ++r) out << K(r, 0) << " " << K(r, 1) << " " << K(r, 2) << "\n";
+      out << "0 0 0\n";
+      for (int r = 0; r < 3; ++r) out << R(r, 0) << " " << R(r, 1) << " " << R(r, 2) << "\n";
+      out << C.x() << " " << C.y() << " " << C.z() << "\n";
+      out << c.width << " " << c.height << "\n";
+    });
   }
 }
 

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <system_error>
 
+#include <nlohmann/json.hpp>
+
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -50,6 +52,10 @@ void WriteFileAtomically(const fs::path& file, const std::function<void(std::ost
     out.close();
     if (!out) Fail("{}: write failed (disk full?)", file.string());
   });
+}
+
+void WriteJsonAtomically(const fs::path& file, const nlohmann::json& json) {
+  WriteFileAtomically(file, [&](std::ostream& out) { out << json.dump(2) << "\n"; });
 }
 
 void WriteFilesAtomically(const fs::path& dir, const std::vector<std::string>& names,

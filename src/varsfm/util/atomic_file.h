@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace varsfm {
 
 // Opens a temporary sibling of `file` (binary), calls `write` with it, closes it and renames it
@@ -17,6 +19,9 @@ namespace varsfm {
 // temporary is removed on any failure, and an exception from `write` is rethrown.
 void WriteFileAtomically(const std::filesystem::path& file,
                          const std::function<void(std::ostream& out)>& write);
+
+// `json` as the project writes its JSON files (summary.json, ...): indented by 2, a final newline.
+void WriteJsonAtomically(const std::filesystem::path& file, const nlohmann::json& json);
 
 // The same for writers that open the file themselves (TinyGLTF, image encoders): `write` is
 // given the temporary's path and must create that file or throw.

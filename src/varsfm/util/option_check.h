@@ -15,6 +15,11 @@
 
 namespace varsfm {
 
+// Who calls a stage's options' Check(): the stage where it starts, or a caller that has done so
+// already (`run` checks every stage's options before the first stage starts), so that each
+// Check() runs once.
+enum class OptionsCheck { kByStage, kDoneByCaller };
+
 // A bad option value: a usage error (the command-line tool exits 2 for it, 1 for other errors).
 class OptionError : public Error {
  public:
