@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <string>
+#include <utility>
 
 #include "varsfm/report/colormap.h"
 #include "varsfm/report/svg_chart.h"
@@ -21,6 +23,15 @@ PerImageSeries SeriesOf(const ReportData& data,
     series.values.push_back(image.registered ? value(image) : std::nullopt);
   }
   return series;
+}
+
+// The frame of the small per-image charts: the images along x, in capture order.
+ChartFrame SmallImageFrame(int height, std::string title, std::string y_label) {
+  return {.width = 440,
+          .height = height,
+          .title = std::move(title),
+          .x_label = "image",
+          .y_label = std::move(y_label)};
 }
 
 // The value below which `fraction` of `values` lie (the largest for fraction 1).
@@ -52,46 +63,28 @@ void DrawIntrinsics(const ReportData& data, ReportCharts* charts) {
       SeriesOf(data, [](const ReportImage& i) { return i.camera.params[Camera::kK1]; });
   k1.reference = 0.0;
   k1.decimals = 4;
-  charts->k1 = PerImageChartSvg({.width = 440,
-                                 .height = 200,
-                                 .title = "Radial distortion k1",
-                                 .x_label = "image",
-                                 .y_label = "k1"},
-                                k1);
+  charts->k1 = PerImageChartSvg(SmallImageFrame(200, "Radial distortion k1", "k1"), k1);
   PerImageSeries k2 =
       SeriesOf(data, [](const ReportImage& i) { return i.camera.params[Camera::kK2]; });
   k2.reference = 0.0;
   k2.decimals = 4;
   k2.color = "#21918c";
-  charts->k2 = PerImageChartSvg({.width = 440,
-                                 .height = 200,
-                                 .title = "Radial distortion k2",
-                                 .x_label = "image",
-                                 .y_label = "k2"},
-                                k2);
+  charts->k2 = PerImageChartSvg(SmallImageFrame(200, "Radial distortion k2", "k2"), k2);
   PerImageSeries u = SeriesOf(data, [](const ReportImage& i) {
     return i.camera.params[Camera::kU0] - i.camera.width / 2.0;
   });
   u.reference = 0.0;
   u.reference_label = "image centre";
-  charts->principal_u = PerImageChartSvg({.width = 440,
-                                          .height = 200,
-                                          .title = "Principal point u0 \u2212 width/2",
-                                          .x_label = "image",
-                                          .y_label = "px"},
-                                         u);
+  charts->principal_u =
+      PerImageChartSvg(SmallImageFrame(200, "Principal point u0 \u2212 width/2", "px"), u);
   PerImageSeries v = SeriesOf(data, [](const ReportImage& i) {
     return i.camera.params[Camera::kV0] - i.camera.height / 2.0;
   });
   v.reference = 0.0;
   v.reference_label = "image centre";
   v.color = "#21918c";
-  charts->principal_v = PerImageChartSvg({.width = 440,
-                                          .height = 200,
-                                          .title = "Principal point v0 \u2212 height/2",
-                                          .x_label = "image",
-                                          .y_label = "px"},
-                                         v);
+  charts->principal_v =
+      PerImageChartSvg(SmallImageFrame(200, "Principal point v0 \u2212 height/2", "px"), v);
 }
 
 void DrawFit(const ReportData& data, ReportCharts* charts) {
@@ -99,23 +92,15 @@ void DrawFit(const ReportData& data, ReportCharts* charts) {
   error.bars = true;
   error.decimals = 3;
   error.color = "#3b528b";
-  charts->error_per_image = PerImageChartSvg({.width = 440,
-                                              .height = 220,
-                                              .title = "RMS reprojection error per image",
-                                              .x_label = "image",
-                                              .y_label = "px"},
-                                             error);
+  charts->error_per_image =
+      PerImageChartSvg(SmallImageFrame(220, "RMS reprojection error per image", "px"), error);
   PerImageSeries points =
       SeriesOf(data, [](const ReportImage& i) { return static_cast<double>(i.num_points3D); });
   points.bars = true;
   points.decimals = 0;
   points.color = "#21918c";
-  charts->points_per_image = PerImageChartSvg({.width = 440,
-                                               .height = 220,
-                                               .title = "3D points seen per image",
-                                               .x_label = "image",
-                                               .y_label = "observations"},
-                                              points);
+  charts->points_per_image =
+      PerImageChartSvg(SmallImageFrame(220, "3D points seen per image", "observations"), points);
   if (!data.observation_errors_px.empty()) {
     // Up to the 99th percentile: a few large errors would squeeze the rest into one bin.
     const double upper = std::max(1e-3, Quantile(data.observation_errors_px, 0.99));
