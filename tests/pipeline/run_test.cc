@@ -13,11 +13,9 @@ namespace varsfm {
 namespace {
 
 using testing::RunCommand;
+using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
-
-// Shell-quoted path, for the command lines below.
-std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
 
 nlohmann::json ReadJson(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -30,13 +28,14 @@ nlohmann::json RunAndEvaluate(const std::filesystem::path& set, const TempDir& t
   const auto model = tmp.path() / "out";
   // The sparse model is what these tests measure; the dense and textured stages are covered by
   // the demo test below and tests/texture.
-  EXPECT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse", Q(VarsfmBinary()),
-                                   Q(set / "images"), Q(model)),
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(set / "images"), ShellQuote(model)),
                        &out),
             0)
       << out;
-  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {} --gt {} --json {}", Q(VarsfmBinary()),
-                                   Q(model / "sparse"), Q(set / "gt"), Q(tmp.path() / "eval.json")),
+  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {} --gt {} --json {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(model / "sparse"), ShellQuote(set / "gt"),
+                                   ShellQuote(tmp.path() / "eval.json")),
                        &out),
             0)
       << out;
@@ -73,7 +72,9 @@ TEST(RunCommand, FountainP11ZoomRecoversEveryFocalLength) {
 TEST(DemoCommand, SyntheticZoomSceneIsAccurateAndRepeatable) {
   TempDir tmp("demo");
   std::string out;
-  ASSERT_EQ(RunCommand(fmt::format("{} demo --output {}", Q(VarsfmBinary()), Q(tmp.path())), &out),
+  ASSERT_EQ(RunCommand(fmt::format("{} demo --output {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(tmp.path())),
+                       &out),
             0)
       << out;
   const nlohmann::json e = ReadJson(tmp.path() / "evaluation.json");
@@ -87,8 +88,9 @@ TEST(DemoCommand, SyntheticZoomSceneIsAccurateAndRepeatable) {
   EXPECT_LE(e["focal_error_percent"]["mean"].get<double>(), 0.5);
 
   for (const char* run : {"map1", "map2"}) {
-    ASSERT_EQ(RunCommand(fmt::format("{} map --workspace {} --output {}", Q(VarsfmBinary()),
-                                     Q(tmp.path() / "workspace.db"), Q(tmp.path() / run)),
+    ASSERT_EQ(RunCommand(fmt::format(
+                             "{} map --workspace {} --output {}", ShellQuote(VarsfmBinary()),
+                             ShellQuote(tmp.path() / "workspace.db"), ShellQuote(tmp.path() / run)),
                          &out),
               0)
         << out;
@@ -113,8 +115,9 @@ TEST(RunCommand, IdenticalImagesCannotInitialise) {
   for (int i = 0; i < 3; ++i)
     std::filesystem::copy_file(kermit / "kermit000.jpg", images / fmt::format("copy{}.jpg", i));
   std::string out;
-  const int code = RunCommand(
-      fmt::format("{} run {} {}", Q(VarsfmBinary()), Q(images), Q(tmp.path() / "out")), &out);
+  const int code = RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()),
+                                          ShellQuote(images), ShellQuote(tmp.path() / "out")),
+                              &out);
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("varsfm: error:"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(tmp.path() / "out" / "sparse")) << "no model on failure";
@@ -123,8 +126,8 @@ TEST(RunCommand, IdenticalImagesCannotInitialise) {
 TEST(RunCommand, MissingInputIsAOneLineError) {
   TempDir tmp("missing");
   std::string out;
-  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", Q(VarsfmBinary()), Q(tmp.path() / "nope"),
-                                   Q(tmp.path() / "out")),
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(tmp.path() / "nope"), ShellQuote(tmp.path() / "out")),
                        &out),
             1);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;

@@ -17,10 +17,8 @@
 namespace varsfm {
 namespace {
 
-// Shell-quoted, for the command lines below.
-std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
-
 using testing::RunCommand;
+using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
 using testing::WriteSyntheticOutput;
@@ -54,7 +52,8 @@ std::string Chromium(const std::string& chromium, const std::filesystem::path& p
       "{} --headless --no-sandbox --disable-dev-shm-usage --use-gl=angle --use-angle=swiftshader "
       "--enable-unsafe-swiftshader --hide-scrollbars --no-first-run --user-data-dir={} "
       "--window-size={},{} --virtual-time-budget=20000 {} {} 2>/dev/null",
-      Q(chromium), Q(profile), kWidth, kHeight, action, Q("file://" + page.string() + fragment));
+      ShellQuote(chromium), ShellQuote(profile), kWidth, kHeight, action,
+      ShellQuote("file://" + page.string() + fragment));
   std::string out;
   EXPECT_EQ(RunCommand(command, &out), 0) << command;
   return out;
@@ -76,7 +75,9 @@ TEST(ReportInBrowser, ViewerDrawsTheCamerasPointsAndTexturedModel) {
   const auto out = tmp.path() / "out";
   WriteSyntheticOutput(out);
   std::string log;
-  ASSERT_EQ(RunCommand(fmt::format("{} report {}", Q(VarsfmBinary()), Q(out)), &log), 0) << log;
+  ASSERT_EQ(
+      RunCommand(fmt::format("{} report {}", ShellQuote(VarsfmBinary()), ShellQuote(out)), &log), 0)
+      << log;
 
   const std::string dom =
       Chromium(chromium, out / "report.html", tmp.path() / "profile", "--dump-dom");
@@ -103,7 +104,8 @@ TEST(ReportInBrowser, ViewerDrawsTheCamerasPointsAndTexturedModel) {
   EXPECT_NE(panel.find("data:image/jpeg;base64,"), std::string::npos);
 
   const auto png = tmp.path() / "shot.png";
-  Chromium(chromium, out / "report.html", tmp.path() / "profile", "--screenshot=" + Q(png));
+  Chromium(chromium, out / "report.html", tmp.path() / "profile",
+           "--screenshot=" + ShellQuote(png));
   const cv::Mat shot = ReadImagePixels(png, ColorMode::kColor);
   ASSERT_EQ(shot.cols, kWidth);
   size_t drawn = 0, red = 0;
@@ -126,8 +128,8 @@ TEST(ReportInBrowser, WithoutThreeJsThePageStillWorks) {
   WriteSyntheticOutput(out, {.with_glb = false});
   std::filesystem::create_directories(tmp.path() / "none");
   std::string log;
-  ASSERT_EQ(RunCommand(fmt::format("{} report {} --three-js {}", Q(VarsfmBinary()), Q(out),
-                                   Q(tmp.path() / "none")),
+  ASSERT_EQ(RunCommand(fmt::format("{} report {} --three-js {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(out), ShellQuote(tmp.path() / "none")),
                        &log),
             0)
       << log;
