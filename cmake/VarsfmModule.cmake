@@ -31,5 +31,5 @@ function(varsfm_test module)
   # Reading TIFF/BMP/... and video loads the OpenCV I/O plug-in at run time.
   add_dependencies(${module}_test varsfm_opencv_io)
   gtest_discover_tests(${module}_test WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-                       DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 900)
+                       DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT ${VARSFM_TEST_TIMEOUT})
 endfunction()
