@@ -21,6 +21,22 @@ uint64_t Key(const Eigen::Vector3i& c) {
          ((static_cast<uint64_t>(c.y()) & mask) << 21) | (static_cast<uint64_t>(c.z()) & mask);
 }
 
+using CellMap = std::unordered_map<uint64_t, std::vector<size_t>>;
+
+// Calls visit(j) for every point j in cell c and its 26 neighbours, in a fixed order (dx, dy, dz
+// each from -1 to 1, a cell's points as inserted): a search over them sees every point within
+// one cell size of any point of c.
+template <typename Visit>
+void ForEachInNeighbourCells(const CellMap& cells, const Eigen::Vector3i& c, Visit&& visit) {
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const auto it = cells.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
+        if (it == cells.end()) continue;
+        for (const size_t j : it->second) visit(j);
+      }
+}
+
 }  // namespace
 
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
@@ -80,7 +96,7 @@ double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t 
   double cell = std::max(std::sqrt(area / points.size()), 1e-9);
   const size_t stride = std::max<size_t>(1, points.size() / samples);
   for (int attempt = 0; attempt < 60; ++attempt, cell *= 2) {
-    std::unordered_map<uint64_t, std::vector<size_t>> cells;
+    CellMap cells;
     for (size_t i = 0; i < points.size(); ++i) cells[Key(CellOf(points[i], cell))].push_back(i);
     double sum = 0;
     size_t count = 0;
@@ -88,15 +104,9 @@ double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t 
     for (size_t i = 0; i < points.size() && all_found; i += stride) {
       const Eigen::Vector3i c = CellOf(points[i], cell);
       double best = std::numeric_limits<double>::infinity();
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) {
-            auto it = cells.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
-            if (it == cells.end()) continue;
-            for (size_t j : it->second) {
-              if (j != i) best = std::min(best, (points[j] - points[i]).squaredNorm());
-            }
-          }
+      ForEachInNeighbourCells(cells, c, [&](size_t j) {
+        if (j != i) best = std::min(best, (points[j] - points[i]).squaredNorm());
+      });
       // A neighbour beyond one cell might be beaten by one further out: only trust d <= cell.
       if (best > cell * cell) all_found = false;
       sum += std::sqrt(best);
@@ -117,19 +127,13 @@ std::optional<size_t> PointGrid::NearestWithinCell(const Eigen::Vector3d& query)
   const Eigen::Vector3i c = CellOf(query, cell_size_);
   double best = cell_size_ * cell_size_;
   std::optional<size_t> nearest;
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz) {
-        auto it = cells_.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
-        if (it == cells_.end()) continue;
-        for (size_t j : it->second) {
-          const double d = (points_[j] - query).squaredNorm();
-          if (d <= best) {
-            best = d;
-            nearest = j;
-          }
-        }
-      }
+  ForEachInNeighbourCells(cells_, c, [&](size_t j) {
+    const double d = (points_[j] - query).squaredNorm();
+    if (d <= best) {
+      best = d;
+      nearest = j;
+    }
+  });
   return nearest;
 }
 
