@@ -28,6 +28,19 @@ int AddBufferView(tinygltf::Model* model, const void* data, size_t bytes, int ta
   return static_cast<int>(model->bufferViews.size()) - 1;
 }
 
+// An accessor of `count` elements of `type` (scalar, VEC2, ...) whose components are
+// `component_type`, over `values` in a new buffer view for `target`.
+template <typename T>
+tinygltf::Accessor AccessorOver(tinygltf::Model* model, const std::vector<T>& values, int target,
+                                int component_type, int type, size_t count) {
+  tinygltf::Accessor accessor;
+  accessor.bufferView = AddBufferView(model, values.data(), values.size() * sizeof(T), target);
+  accessor.componentType = component_type;
+  accessor.count = count;
+  accessor.type = type;
+  return accessor;
+}
+
 }  // namespace
 
 void WriteGlb(const std::filesystem::path& file, const TexturedMesh& mesh) {
@@ -61,22 +74,15 @@ void WriteGlb(const std::filesystem::path& file, const TexturedMesh& mesh) {
   model.buffers.resize(1);
   const size_t num_vertices = positions.size() / 3;
 
-  tinygltf::Accessor position;
-  position.bufferView = AddBufferView(&model, positions.data(), positions.size() * sizeof(float),
-                                      TINYGLTF_TARGET_ARRAY_BUFFER);
-  position.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  position.count = num_vertices;
-  position.type = TINYGLTF_TYPE_VEC3;
+  tinygltf::Accessor position =
+      AccessorOver(&model, positions, TINYGLTF_TARGET_ARRAY_BUFFER, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                   TINYGLTF_TYPE_VEC3, num_vertices);
   position.minValues = {lo.x(), lo.y(), lo.z()};  // required for POSITION by the spec
   position.maxValues = {hi.x(), hi.y(), hi.z()};
   model.accessors.push_back(position);
-  tinygltf::Accessor uv;
-  uv.bufferView = AddBufferView(&model, texcoords.data(), texcoords.size() * sizeof(float),
-                                TINYGLTF_TARGET_ARRAY_BUFFER);
-  uv.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  uv.count = num_vertices;
-  uv.type = TINYGLTF_TYPE_VEC2;
-  model.accessors.push_back(uv);
+  model.accessors.push_back(AccessorOver(&model, texcoords, TINYGLTF_TARGET_ARRAY_BUFFER,
+                                         TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2,
+                                         num_vertices));
 
   tinygltf::Sampler sampler;
   sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
@@ -108,14 +114,9 @@ void WriteGlb(const std::filesystem::path& file, const TexturedMesh& mesh) {
     material.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
     model.materials.push_back(material);
 
-    tinygltf::Accessor index;
-    index.bufferView =
-        AddBufferView(&model, indices[p].data(), indices[p].size() * sizeof(uint32_t),
-                      TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    index.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    index.count = indices[p].size();
-    index.type = TINYGLTF_TYPE_SCALAR;
-    model.accessors.push_back(index);
+    model.accessors.push_back(AccessorOver(&model, indices[p], TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                                           TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                           TINYGLTF_TYPE_SCALAR, indices[p].size()));
 
     tinygltf::Primitive primitive;
     primitive.attributes["POSITION"] = 0;
