@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "varsfm/texture/atlas.h"
 #include "varsfm/texture/atlas_fill.h"
@@ -12,6 +13,7 @@
 #include "varsfm/texture/colour_levelling.h"
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/rasterizer.h"
+#include "varsfm/texture/texture_charts.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
@@ -19,75 +21,6 @@
 
 namespace varsfm {
 namespace {
-
-struct Chart {
-  int view = -1;
-  std::vector<int> faces;
-  cv::Rect source;  // pixels of the photo copied into the atlas
-};
-
-// Connected components of edge-adjacent faces with the same (valid) label.
-std::vector<Chart> GrowCharts(const std::vector<int>& labels,
-                              const std::vector<std::array<int, 3>>& neighbours) {
-  std::vector<Chart> charts;
-  std::vector<char> done(labels.size(), 0);
-  std::vector<int> stack;
-  for (size_t seed = 0; seed < labels.size(); ++seed) {
-    if (done[seed] || labels[seed] < 0) continue;
-    Chart chart;
-    chart.view = labels[seed];
-    stack.assign(1, static_cast<int>(seed));
-    done[seed] = 1;
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      chart.faces.push_back(f);
-      for (const int g : neighbours[f]) {
-        if (g >= 0 && !done[g] && labels[g] == chart.view) {
-          done[g] = 1;
-          stack.push_back(g);
-        }
-      }
-    }
-    charts.push_back(std::move(chart));
-  }
-  return charts;
-}
-
-// The pixels of each chart's photo that go into the atlas: the bounding box of its faces'
-// projections plus `pad`. Returns the texels inside the faces, summed over the charts.
-double SetChartSources(const TriangleMesh& mesh, const std::vector<TextureView>& views,
-                       const std::vector<std::vector<ProjectedVertex>>& projected, int pad,
-                       std::vector<Chart>* charts) {
-  double face_texels = 0;
-  for (Chart& chart : *charts) {
-    const Camera& camera = views[chart.view].camera;
-    const std::vector<ProjectedVertex>& pixels = projected[chart.view];
-    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
-    for (const int f : chart.faces) {
-      const Eigen::Vector2d& a = pixels[mesh.faces[f][0]].pixel;
-      const Eigen::Vector2d e1 = pixels[mesh.faces[f][1]].pixel - a;
-      const Eigen::Vector2d e2 = pixels[mesh.faces[f][2]].pixel - a;
-      face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector2d& p = pixels[mesh.faces[f][k]].pixel;
-        min_x = std::min(min_x, p.x());
-        min_y = std::min(min_y, p.y());
-        max_x = std::max(max_x, p.x());
-        max_y = std::max(max_y, p.y());
-      }
-    }
-    // Faces cut by the image border reach outside the photo: the rectangle may too, by at most
-    // a quarter of the image (the rest of such a face samples the rectangle's edge).
-    const int mx = camera.width / 4, my = camera.height / 4;
-    const int x0 = std::max(-mx, static_cast<int>(std::floor(min_x)) - pad);
-    const int y0 = std::max(-my, static_cast<int>(std::floor(min_y)) - pad);
-    const int x1 = std::min(camera.width + mx, static_cast<int>(std::ceil(max_x)) + pad);
-    const int y1 = std::min(camera.height + my, static_cast<int>(std::ceil(max_y)) + pad);
-    chart.source = cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0));
-  }
-  return face_texels;
-}
 
 // Unseen faces: their colour (mean vertex colour, or the neutral one) quantised to 5 bits per
 // channel picks a 3x3 palette cell, whose centre texel every such face samples. At most 32768
@@ -125,20 +58,91 @@ UnseenPalette BuildUnseenPalette(const TriangleMesh& mesh, const std::vector<int
   return palette;
 }
 
-// Applies the view's gain and the levelling corrections to a chart's texels (chart_colour.h).
-void CorrectChart(const TriangleMesh& mesh, const Chart& chart,
-                  const std::vector<ProjectedVertex>& pixels,
-                  const std::vector<std::array<Eigen::Vector3f, 3>>& corrections,
-                  const Eigen::Vector3f& gain, double reach, cv::Mat* target) {
+// Paints the palette's 3 x 3 cells at its place in the atlas (turned: cell i at column i / per
+// row, row i % per row) and points every unseen face at its cell's centre.
+void WritePalette(const UnseenPalette& palette, const AtlasPlacement& place, TexturedMesh* out,
+                  std::vector<cv::Mat>* filled) {
+  cv::Mat& page = out->pages[place.page];
+  const int first_texcoord = static_cast<int>(out->texcoords.size());
+  for (size_t i = 0; i < palette.colours.size(); ++i) {
+    const cv::Vec3b& colour = palette.colours[i];
+    int along = 3 * static_cast<int>(i % palette.cells_per_row);
+    int across = 3 * static_cast<int>(i / palette.cells_per_row);
+    if (place.rotated) std::swap(along, across);
+    const cv::Rect cell(place.x + along, place.y + across, 3, 3);
+    page(cell).setTo(cv::Scalar(colour[0], colour[1], colour[2]));
+    (*filled)[place.page](cell).setTo(255);
+    out->texcoords.emplace_back((cell.x + 1.5f) / page.cols, (cell.y + 1.5f) / page.rows);
+  }
+  for (size_t i = 0; i < palette.faces.size(); ++i) {
+    out->face_page[palette.faces[i]] = place.page;
+    out->face_texcoords[palette.faces[i]].setConstant(first_texcoord + palette.cell_of_face[i]);
+  }
+}
+
+// What goes into a chart's texels: its photo's pixels times the photo's gain plus the levelling
+// corrections (chart_colour.h), out to `reach` texels from its faces.
+struct ChartTexels {
+  const TriangleMesh& mesh;
+  const Chart& chart;
+  const std::vector<ProjectedVertex>& pixels;  // the vertices in the chart's photo
+  const std::vector<std::array<Eigen::Vector3f, 3>>& corrections;
+  const Eigen::Vector3f& gain;
+  double reach;
+};
+
+// Copies a chart's masked texels from its photo into its place in the atlas, marks them in
+// `filled` and sets its faces' texture coordinates. Turning by 90 degrees permutes texels, so
+// the atlas holds the photo's own pixels either way.
+void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement& place,
+               TexturedMesh* out, std::vector<cv::Mat>* filled) {
+  const Chart& chart = t.chart;
+  cv::Mat texels(chart.source.size(), CV_8UC3, cv::Scalar::all(0));
+  const cv::Rect inside = chart.source & cv::Rect(0, 0, photo.cols, photo.rows);
+  if (inside == chart.source) {
+    photo(chart.source).copyTo(texels);
+  } else if (inside.area() > 0) {  // repeat the photo's border pixels outside it
+    cv::copyMakeBorder(photo(inside), texels, inside.y - chart.source.y,
+                       chart.source.br().y - inside.br().y, inside.x - chart.source.x,
+                       chart.source.br().x - inside.br().x,
+                       cv::BORDER_REPLICATE | cv::BORDER_ISOLATED);
+  }
   std::vector<std::array<Eigen::Vector2d, 3>> face_pixels(chart.faces.size());
   std::vector<std::array<Eigen::Vector3f, 3>> face_corrections(chart.faces.size());
   const Eigen::Vector2d corner(chart.source.x, chart.source.y);
   for (size_t i = 0; i < chart.faces.size(); ++i) {
     for (int k = 0; k < 3; ++k)
-      face_pixels[i][k] = pixels[mesh.faces[chart.faces[i]][k]].pixel - corner;
-    face_corrections[i] = corrections[chart.faces[i]];
+      face_pixels[i][k] = t.pixels[t.mesh.faces[chart.faces[i]][k]].pixel - corner;
+    face_corrections[i] = t.corrections[chart.faces[i]];
   }
-  CorrectChartColours(face_pixels, face_corrections, gain, reach, target);
+  CorrectChartColours(face_pixels, face_corrections, t.gain, t.reach, &texels);
+
+  cv::Mat placed = texels;
+  if (place.rotated) cv::rotate(texels, placed, cv::ROTATE_90_CLOCKWISE);
+  const cv::Mat mask = PlacedMask(chart.mask, place);
+  cv::Mat& page = out->pages[place.page];
+  const cv::Rect region(place.x, place.y, placed.cols, placed.rows);
+  placed.copyTo(page(region), mask);
+  (*filled)[place.page](region).setTo(255, mask);
+
+  const Eigen::Vector2d inv_size(1.0 / page.cols, 1.0 / page.rows);
+  const Eigen::Vector2d origin(place.x, place.y);
+  std::unordered_map<int, int> texcoord_of_vertex;
+  for (const int f : chart.faces) {
+    out->face_page[f] = place.page;
+    for (int k = 0; k < 3; ++k) {
+      const int vertex = t.mesh.faces[f][k];
+      const auto [it, inserted] =
+          texcoord_of_vertex.try_emplace(vertex, static_cast<int>(out->texcoords.size()));
+      if (inserted) {
+        const Eigen::Vector2d local = t.pixels[vertex].pixel - corner;
+        const Eigen::Vector2d turned =
+            place.rotated ? Eigen::Vector2d(chart.source.height - local.y(), local.x()) : local;
+        out->texcoords.push_back(((turned + origin).cwiseProduct(inv_size)).cast<float>());
+      }
+      out->face_texcoords[f][k] = it->second;
+    }
+  }
 }
 
 }  // namespace
@@ -165,7 +169,6 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
         "it is not the surface the photos show",
         100 * st.mean_coverage, 100 * options.min_mean_coverage);
   std::vector<Chart> charts = GrowCharts(selection.labels, FaceNeighbours(mesh.faces));
-  st.num_charts = charts.size();
   st.seconds_selection = timer.Seconds();
   timer.Restart();
   const std::vector<std::array<Eigen::Vector3f, 3>> corrections =
@@ -177,23 +180,31 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
 
   // Vertex pixels in every view that textures a chart (full resolution, with distortion).
   std::vector<std::vector<ProjectedVertex>> projected(views.size());
+  std::vector<cv::Size> photo_sizes;
+  for (const TextureView& view : views)
+    photo_sizes.emplace_back(view.camera.width, view.camera.height);
   for (const Chart& chart : charts) {
     if (projected[chart.view].empty())
       projected[chart.view] = ProjectVertices(mesh.vertices, views[chart.view].camera,
                                               views[chart.view].cam_from_world);
   }
 
-  const int pad = std::max(0, options.padding);
-  st.face_texels = SetChartSources(mesh, views, projected, pad, &charts);
-  std::vector<AtlasRect> rects;
-  for (const Chart& chart : charts) rects.push_back({chart.source.width, chart.source.height});
+  const int gutter = std::max(0, options.padding);
+  charts = CutCharts(charts, mesh.faces, projected, options.chart_tile);
+  st.num_charts = charts.size();
+  st.face_texels = SetChartMasks(mesh.faces, projected, photo_sizes, gutter, &charts);
+  std::vector<cv::Mat> masks;
+  for (const Chart& chart : charts) {
+    masks.push_back(chart.mask);
+    st.chart_texels += cv::countNonZero(chart.mask);
+  }
   const UnseenPalette palette = BuildUnseenPalette(mesh, selection.labels, options.unseen_color);
   if (!palette.faces.empty()) {
     const int rows = static_cast<int>((palette.colours.size() + palette.cells_per_row - 1) /
                                       palette.cells_per_row);
-    rects.push_back({3 * palette.cells_per_row, 3 * rows});
+    masks.emplace_back(3 * rows, 3 * palette.cells_per_row, CV_8UC1, cv::Scalar::all(255));
   }
-  const AtlasLayout layout = PackRectangles(rects, options.max_page_size);
+  const AtlasLayout layout = PackCharts(masks, options.max_page_size);
 
   TexturedMesh out;
   out.vertices = mesh.vertices;
@@ -201,7 +212,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   out.face_texcoords.resize(mesh.faces.size());
   out.face_page.resize(mesh.faces.size(), 0);
   std::vector<cv::Mat> filled;  // per page: texels holding chart colour
-  for (const AtlasRect& page : layout.pages) {
+  for (const AtlasPage& page : layout.pages) {
     out.pages.emplace_back(page.height, page.width, CV_8UC3, cv::Scalar::all(0));
     filled.emplace_back(page.height, page.width, CV_8UC1, cv::Scalar::all(0));
     st.atlas_pixels += static_cast<size_t>(page.width) * page.height;
@@ -211,7 +222,6 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   // Copy the charts view by view, so only one photo is in memory at a time.
   std::vector<std::vector<size_t>> charts_of_view(views.size());
   for (size_t c = 0; c < charts.size(); ++c) charts_of_view[charts[c].view].push_back(c);
-  std::unordered_map<int, int> texcoord_of_vertex;  // within one chart
   Progress progress("texture: atlas", views.size());
   for (size_t v = 0; v < views.size(); ++v) {
     progress.Tick();
@@ -222,58 +232,12 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
       Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
            photo.rows, photo.type(), views[v].camera.width, views[v].camera.height);
     for (const size_t c : charts_of_view[v]) {
-      const Chart& chart = charts[c];
-      const AtlasPlacement& place = layout.placements[c];
-      cv::Mat& page = out.pages[place.page];
-      const cv::Rect region(place.x, place.y, chart.source.width, chart.source.height);
-      filled[place.page](region).setTo(255);
-      cv::Mat target = page(region);
-      const cv::Rect inside = chart.source & cv::Rect(0, 0, photo.cols, photo.rows);
-      if (inside == chart.source) {
-        photo(chart.source).copyTo(target);
-      } else if (inside.area() > 0) {  // repeat the photo's border pixels outside it
-        cv::copyMakeBorder(photo(inside), target, inside.y - chart.source.y,
-                           chart.source.br().y - inside.br().y, inside.x - chart.source.x,
-                           chart.source.br().x - inside.br().x,
-                           cv::BORDER_REPLICATE | cv::BORDER_ISOLATED);
-      }
-      CorrectChart(mesh, chart, projected[v], corrections, selection.gains[v], pad + 1.0, &target);
-      const Eigen::Vector2d shift(place.x - chart.source.x, place.y - chart.source.y);
-      const Eigen::Vector2d inv_size(1.0 / page.cols, 1.0 / page.rows);
-      texcoord_of_vertex.clear();
-      for (const int f : chart.faces) {
-        out.face_page[f] = place.page;
-        for (int k = 0; k < 3; ++k) {
-          const int vertex = mesh.faces[f][k];
-          const auto [it, inserted] =
-              texcoord_of_vertex.try_emplace(vertex, static_cast<int>(out.texcoords.size()));
-          if (inserted) {
-            const Eigen::Vector2d uv = (projected[v][vertex].pixel + shift).cwiseProduct(inv_size);
-            out.texcoords.push_back(uv.cast<float>());
-          }
-          out.face_texcoords[f][k] = it->second;
-        }
-      }
+      const ChartTexels texels{mesh,        charts[c],          projected[v],
+                               corrections, selection.gains[v], gutter + 1.5};
+      CopyChart(photo, texels, layout.placements[c], &out, &filled);
     }
   }
-  if (!palette.faces.empty()) {
-    const AtlasPlacement& place = layout.placements.back();
-    cv::Mat& page = out.pages[place.page];
-    const int first_texcoord = static_cast<int>(out.texcoords.size());
-    for (size_t i = 0; i < palette.colours.size(); ++i) {
-      const cv::Vec3b& colour = palette.colours[i];
-      const int per_row = palette.cells_per_row;
-      const cv::Rect cell(place.x + 3 * static_cast<int>(i % per_row),
-                          place.y + 3 * static_cast<int>(i / per_row), 3, 3);
-      page(cell).setTo(cv::Scalar(colour[0], colour[1], colour[2]));
-      filled[place.page](cell).setTo(255);
-      out.texcoords.emplace_back((cell.x + 1.5f) / page.cols, (cell.y + 1.5f) / page.rows);
-    }
-    for (size_t i = 0; i < palette.faces.size(); ++i) {
-      out.face_page[palette.faces[i]] = place.page;
-      out.face_texcoords[palette.faces[i]].setConstant(first_texcoord + palette.cell_of_face[i]);
-    }
-  }
+  if (!palette.faces.empty()) WritePalette(palette, layout.placements.back(), &out, &filled);
   if (options.bleed_rings > 0) {
     for (size_t p = 0; p < out.pages.size(); ++p)
       BleedAtlasBackground(&out.pages[p], filled[p], options.bleed_rings);
@@ -287,6 +251,7 @@ void TextureOptions::Check() const {
   levelling.Check();
   CheckInRange("--padding", padding, 0, 64);
   CheckAtLeast("bleed_rings", bleed_rings, 0);
+  CheckAtLeast("chart_tile", chart_tile, 8);
   CheckAtLeast("max_page_size", max_page_size, 64);
   CheckInRange("min_mean_coverage", min_mean_coverage, 0, 1);
 }

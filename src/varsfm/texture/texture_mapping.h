@@ -1,12 +1,12 @@
 #pragma once
 // Texturing a mesh from the registered photos: per-face image choice (view_selection.h), charts
-// of connected faces with the same image, each chart's bounding box in its photo (plus padding)
-// copied into an atlas (atlas.h), texture coordinates from projecting the vertices through the
-// full camera model (distortion included), so colours come straight from the photo's pixels
-// with no resampling. Inside a face the photo is mapped affinely between its corners' distorted
-// positions: exact at the corners, and off by (distortion curvature x face size^2), a small
-// fraction of a pixel for the faces of a reconstructed mesh. Faces no photo sees take their
-// vertex colour (or grey) from a palette block of the atlas.
+// of connected faces with the same image (texture_charts.h), the photo texels each chart's faces
+// cover plus a gutter packed by shape into an atlas (atlas.h), texture coordinates from projecting
+// the vertices through the full camera model (distortion included), so colours come straight from
+// the photo's pixels with no resampling. Inside a face the photo is mapped affinely between its
+// corners' distorted positions: exact at the corners, and off by (distortion curvature x face
+// size^2), a small fraction of a pixel for the faces of a reconstructed mesh. Faces no photo sees
+// take their vertex colour (or grey) from a palette block of the atlas.
 #include <functional>
 #include <vector>
 
@@ -22,12 +22,16 @@ namespace varsfm {
 struct TextureOptions {
   ViewSelectionOptions selection;
   ColourLevellingOptions levelling;
-  // Photo pixels kept around each chart so bilinear lookups (and mip-maps in viewers) at a
-  // chart's edge read the photo, not the black atlas background: this is what hides seams.
-  int padding = 3;
+  // Photo pixels kept around each chart's faces (the gutter) so bilinear lookups (and the first
+  // mip-map levels of viewers) at a chart's edge read the photo, not a neighbouring chart or
+  // the background: this is what hides seams. Bilinear lookups need 1.
+  int padding = 2;
   // Texels of chart colour bled into the empty atlas around charts, for viewers' mip-maps
   // (atlas_fill.h); 0: leave the background black.
   int bleed_rings = 8;
+  // Charts are cut along a grid of this many photo pixels (texture_charts.h: CutCharts) so that
+  // long or ring-shaped charts pack densely; smaller squares add gutter texels along the cuts.
+  int chart_tile = 256;
   int max_page_size = 8192;
   cv::Vec3b unseen_color = {128, 128, 128};  // BGR, for unseen faces of a mesh without colours
   // Texturing fails when the mesh covers less than this fraction of the photos' pixels on
@@ -42,10 +46,11 @@ struct TextureStats {
   size_t num_faces = 0;
   size_t num_textured_faces = 0;
   size_t num_rejected_observations = 0;  // (view, face) pairs failing photo-consistency
-  size_t num_charts = 0;
+  size_t num_charts = 0;  // pieces packed into the atlas (charts cut along the tile grid)
   size_t num_pages = 0;
   size_t atlas_pixels = 0;
-  double face_texels = 0;  // atlas texels inside textured faces (the rest is padding and waste)
+  size_t chart_texels = 0;   // atlas texels the charts hold: their faces' and their gutters
+  double face_texels = 0;    // atlas texels inside textured faces (the rest is gutter and waste)
   double mean_coverage = 0;  // the mean over the views of the fraction of pixels the mesh covers
   double seconds_selection = 0;
   double seconds_levelling = 0;
