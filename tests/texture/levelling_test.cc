@@ -52,6 +52,7 @@ TEST(Levelling, RemovesTheSeamBetweenTwoExposures) {
   TextureOptions off;
   off.selection.exposure.enabled = false;
   off.levelling.enabled = false;
+  off.seams.enabled = false;
   // The pattern changes by under 3 grey levels a pixel; the seam by 0.4 x 90-140.
   const double unlevelled = LargestStep(TextureMesh(scene.mesh, scene.views, load, off));
   EXPECT_GT(unlevelled, 30);
@@ -61,10 +62,16 @@ TEST(Levelling, RemovesTheSeamBetweenTwoExposures) {
   TextureOptions levelling_only;
   levelling_only.selection.exposure.enabled = false;
   levelling_only.levelling.max_seam_difference = 1000;  // the gap is all exposure here
+  levelling_only.seams.enabled = false;
   EXPECT_LT(LargestStep(TextureMesh(scene.mesh, scene.views, load, levelling_only)),
             unlevelled / 2);
   // ... and with the gains first nothing is left but the pattern's own steps.
   EXPECT_LT(LargestStep(TextureMesh(scene.mesh, scene.views, load)), 6);
+  // The local blending alone (seam_blending.h) also meets halfway at the seam, fading the
+  // change over its strip.
+  TextureOptions blending_only = off;
+  blending_only.seams.enabled = true;
+  EXPECT_LT(LargestStep(TextureMesh(scene.mesh, scene.views, load, blending_only)), 6);
 }
 
 }  // namespace

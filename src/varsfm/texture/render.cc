@@ -6,31 +6,12 @@
 
 #include <tbb/parallel_for.h>
 
+#include "varsfm/texture/atlas_sample.h"
 #include "varsfm/texture/rasterizer.h"
 #include "varsfm/texture/ssim.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
-namespace {
-
-// Bilinear lookup at atlas position (x, y) in pixels, texel centres at i + 0.5 (the pixel
-// convention of the photos the atlas was cut from), clamped at the page border.
-cv::Vec3f SampleBilinear(const cv::Mat& page, double x, double y) {
-  x -= 0.5;
-  y -= 0.5;
-  const int x0 = std::clamp(static_cast<int>(std::floor(x)), 0, page.cols - 1);
-  const int y0 = std::clamp(static_cast<int>(std::floor(y)), 0, page.rows - 1);
-  const int x1 = std::min(x0 + 1, page.cols - 1), y1 = std::min(y0 + 1, page.rows - 1);
-  const float ax = static_cast<float>(std::clamp(x - x0, 0.0, 1.0));
-  const float ay = static_cast<float>(std::clamp(y - y0, 0.0, 1.0));
-  const cv::Vec3b* r0 = page.ptr<cv::Vec3b>(y0);
-  const cv::Vec3b* r1 = page.ptr<cv::Vec3b>(y1);
-  const cv::Vec3f top = (1 - ax) * cv::Vec3f(r0[x0]) + ax * cv::Vec3f(r0[x1]);
-  const cv::Vec3f bottom = (1 - ax) * cv::Vec3f(r1[x0]) + ax * cv::Vec3f(r1[x1]);
-  return (1 - ay) * top + ay * bottom;
-}
-
-}  // namespace
 
 Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
                              const Rigid3d& cam_from_world) {
@@ -63,7 +44,7 @@ Rendering RenderTexturedMesh(const TexturedMesh& mesh, const Camera& camera,
                                  l[1] * mesh.texcoords[tc[1]].cast<double>() +
                                  l[2] * mesh.texcoords[tc[2]].cast<double>();
       const cv::Mat& page = mesh.pages[mesh.face_page[f]];
-      const cv::Vec3f c = SampleBilinear(page, uv.x() * page.cols, uv.y() * page.rows);
+      const cv::Vec3f c = SampleAtlas(page, uv.x() * page.cols, uv.y() * page.rows);
       row[x] = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
                          cv::saturate_cast<uchar>(c[2]));
       mask_row[x] = 255;

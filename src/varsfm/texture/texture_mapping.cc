@@ -60,8 +60,8 @@ UnseenPalette BuildUnseenPalette(const TriangleMesh& mesh, const std::vector<int
 
 // Paints the palette's 3 x 3 cells at its place in the atlas (turned: cell i at column i / per
 // row, row i % per row) and points every unseen face at its cell's centre.
-void WritePalette(const UnseenPalette& palette, const AtlasPlacement& place, TexturedMesh* out,
-                  std::vector<cv::Mat>* filled) {
+void WritePalette(const UnseenPalette& palette, const AtlasPlacement& place, int id,
+                  TexturedMesh* out, std::vector<cv::Mat>* owner) {
   cv::Mat& page = out->pages[place.page];
   const int first_texcoord = static_cast<int>(out->texcoords.size());
   for (size_t i = 0; i < palette.colours.size(); ++i) {
@@ -71,7 +71,7 @@ void WritePalette(const UnseenPalette& palette, const AtlasPlacement& place, Tex
     if (place.rotated) std::swap(along, across);
     const cv::Rect cell(place.x + along, place.y + across, 3, 3);
     page(cell).setTo(cv::Scalar(colour[0], colour[1], colour[2]));
-    (*filled)[place.page](cell).setTo(255);
+    (*owner)[place.page](cell).setTo(id);
     out->texcoords.emplace_back((cell.x + 1.5f) / page.cols, (cell.y + 1.5f) / page.rows);
   }
   for (size_t i = 0; i < palette.faces.size(); ++i) {
@@ -91,11 +91,11 @@ struct ChartTexels {
   double reach;
 };
 
-// Copies a chart's masked texels from its photo into its place in the atlas, marks them in
-// `filled` and sets its faces' texture coordinates. Turning by 90 degrees permutes texels, so
-// the atlas holds the photo's own pixels either way.
-void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement& place,
-               TexturedMesh* out, std::vector<cv::Mat>* filled) {
+// Copies a chart's masked texels from its photo into its place in the atlas, marks them as
+// chart `id`'s in `owner` and sets its faces' texture coordinates. Turning by 90 degrees permutes
+// texels, so the atlas holds the photo's own pixels either way.
+void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement& place, int id,
+               TexturedMesh* out, std::vector<cv::Mat>* owner) {
   const Chart& chart = t.chart;
   cv::Mat texels(chart.source.size(), CV_8UC3, cv::Scalar::all(0));
   const cv::Rect inside = chart.source & cv::Rect(0, 0, photo.cols, photo.rows);
@@ -123,7 +123,7 @@ void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement&
   cv::Mat& page = out->pages[place.page];
   const cv::Rect region(place.x, place.y, placed.cols, placed.rows);
   placed.copyTo(page(region), mask);
-  (*filled)[place.page](region).setTo(255, mask);
+  (*owner)[place.page](region).setTo(id, mask);
 
   const Eigen::Vector2d inv_size(1.0 / page.cols, 1.0 / page.rows);
   const Eigen::Vector2d origin(place.x, place.y);
@@ -168,7 +168,8 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
         "texture: the mesh covers {:.2f} % of the photos on average (at least {:.2f} % expected): "
         "it is not the surface the photos show",
         100 * st.mean_coverage, 100 * options.min_mean_coverage);
-  std::vector<Chart> charts = GrowCharts(selection.labels, FaceNeighbours(mesh.faces));
+  const std::vector<std::array<int, 3>> neighbours = FaceNeighbours(mesh.faces);
+  std::vector<Chart> charts = GrowCharts(selection.labels, neighbours);
   st.seconds_selection = timer.Seconds();
   timer.Restart();
   const std::vector<std::array<Eigen::Vector3f, 3>> corrections =
@@ -211,10 +212,10 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   out.faces = mesh.faces;
   out.face_texcoords.resize(mesh.faces.size());
   out.face_page.resize(mesh.faces.size(), 0);
-  std::vector<cv::Mat> filled;  // per page: texels holding chart colour
+  std::vector<cv::Mat> owner;  // per page: the chart of every texel (-1: none)
   for (const AtlasPage& page : layout.pages) {
     out.pages.emplace_back(page.height, page.width, CV_8UC3, cv::Scalar::all(0));
-    filled.emplace_back(page.height, page.width, CV_8UC1, cv::Scalar::all(0));
+    owner.emplace_back(page.height, page.width, CV_32SC1, cv::Scalar::all(-1));
     st.atlas_pixels += static_cast<size_t>(page.width) * page.height;
   }
   st.num_pages = out.pages.size();
@@ -234,13 +235,18 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
     for (const size_t c : charts_of_view[v]) {
       const ChartTexels texels{mesh,        charts[c],          projected[v],
                                corrections, selection.gains[v], gutter + 1.5};
-      CopyChart(photo, texels, layout.placements[c], &out, &filled);
+      CopyChart(photo, texels, layout.placements[c], static_cast<int>(c), &out, &owner);
     }
   }
-  if (!palette.faces.empty()) WritePalette(palette, layout.placements.back(), &out, &filled);
+  if (!palette.faces.empty())
+    WritePalette(palette, layout.placements.back(), static_cast<int>(charts.size()), &out, &owner);
+  std::vector<int> chart_of_face(mesh.faces.size(), -1);
+  for (size_t c = 0; c < charts.size(); ++c)
+    for (const int f : charts[c].faces) chart_of_face[f] = static_cast<int>(c);
+  BlendSeams(neighbours, selection.labels, chart_of_face, owner, options.seams, &out);
   if (options.bleed_rings > 0) {
     for (size_t p = 0; p < out.pages.size(); ++p)
-      BleedAtlasBackground(&out.pages[p], filled[p], options.bleed_rings);
+      BleedAtlasBackground(&out.pages[p], owner[p] >= 0, options.bleed_rings);
   }
   st.seconds_atlas = timer.Seconds();
   return out;
@@ -249,6 +255,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
 void TextureOptions::Check() const {
   selection.Check();
   levelling.Check();
+  seams.Check();
   CheckInRange("--padding", padding, 0, 64);
   CheckAtLeast("bleed_rings", bleed_rings, 0);
   CheckAtLeast("chart_tile", chart_tile, 8);

@@ -14,6 +14,7 @@
 
 #include "varsfm/scene/triangle_mesh.h"
 #include "varsfm/texture/colour_levelling.h"
+#include "varsfm/texture/seam_blending.h"
 #include "varsfm/texture/textured_mesh.h"
 #include "varsfm/texture/view_selection.h"
 
@@ -22,6 +23,7 @@ namespace varsfm {
 struct TextureOptions {
   ViewSelectionOptions selection;
   ColourLevellingOptions levelling;
+  SeamBlendingOptions seams;
   // Photo pixels kept around each chart's faces (the gutter) so bilinear lookups (and the first
   // mip-map levels of viewers) at a chart's edge read the photo, not a neighbouring chart or
   // the background: this is what hides seams. Bilinear lookups need 1.
@@ -54,7 +56,7 @@ struct TextureStats {
   double mean_coverage = 0;  // the mean over the views of the fraction of pixels the mesh covers
   double seconds_selection = 0;
   double seconds_levelling = 0;
-  double seconds_atlas = 0;
+  double seconds_atlas = 0;  // packing, copying, seam blending
 };
 
 // `load_image(v)` returns view v's photo (BGR, 8-bit, the camera's size). Throws varsfm::Error
