@@ -10,7 +10,7 @@
 // - this chart) / 2 on the seam and d = 0 at `strip_width` texels from it (a straight seam with
 // a constant gap fades linearly). Texels of other charts and the atlas background take no part:
 // the chart's edges away from seams are free (zero normal derivative). Solved per atlas page,
-// one sparse Cholesky factorisation (Eigen's SimplicialLDLT), three right-hand sides.
+// by conjugate gradients (Eigen's, Jacobi-preconditioned), three right-hand sides.
 #include <array>
 #include <vector>
 
@@ -24,7 +24,7 @@ namespace varsfm {
 struct SeamBlendingOptions {
   bool enabled = true;
   // Texels from a seam at which a chart keeps its own colour.
-  int strip_width = 10;
+  int strip_width = 6;
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
