@@ -3,11 +3,15 @@
 // surface method, and scored by eval/surface_score.h at a tolerance of 0.5 % of the extent of
 // the true surface that two or more views see.
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
-//                  [--dense patchmatch|propagation]
+//                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
+// --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "varsfm/dense/densify.h"
 #include "varsfm/eval/surface_score.h"
@@ -21,6 +25,7 @@ int main(int argc, char** argv) {
     varsfm::RenderedSceneOptions options;  // the demo's scene: 800 x 600, zooming x1.6
     double tolerance = 0.005;
     varsfm::DensifyOptions dense;  // PatchMatch, the default
+    std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
     for (int i = 1; i + 1 < argc; i += 2) {
       const std::string flag = argv[i];
       if (flag == "--images")
@@ -35,7 +40,12 @@ int main(int argc, char** argv) {
         dense.method = varsfm::DenseMethod::kPropagation;
       else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
         dense.method = varsfm::DenseMethod::kPatchMatch;
-      else
+      else if (flag == "--edge-factors") {
+        edge_factors.clear();
+        std::stringstream list(argv[i + 1]);
+        for (std::string item; std::getline(list, item, ',');)
+          edge_factors.push_back(std::stod(item));
+      } else
         throw std::runtime_error("unknown option " + flag);
     }
     options.focal_start = 0.8 * options.width;  // the demo's field of view at any width
@@ -62,16 +72,21 @@ int main(int argc, char** argv) {
     std::printf("extent %.3f, tolerance %.4f\n\n", (hi - lo).norm(), score_options.tolerance);
     std::printf("| surface | faces | accuracy | completeness | F-score | median distances | s |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
-    for (const auto& [name, method] :
-         {std::pair{"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
-          std::pair{"delaunay", varsfm::SurfaceMethod::kDelaunay}}) {
-      varsfm::SurfaceOptions surface;
-      surface.method = method;
+    std::vector<std::pair<std::string, varsfm::SurfaceOptions>> variants(1);
+    variants[0].first = "poisson";
+    variants[0].second.method = varsfm::SurfaceMethod::kScreenedPoisson;
+    for (double factor : edge_factors) {
+      varsfm::SurfaceOptions& surface = variants.emplace_back().second;
+      variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4);
+      surface.method = varsfm::SurfaceMethod::kDelaunay;
+      surface.delaunay.max_edge_factor = factor;
+    }
+    for (const auto& [name, surface] : variants) {
       timer.Restart();
       const varsfm::TriangleMesh mesh = varsfm::ReconstructSurface(cloud, surface);
       const double seconds = timer.Seconds();
       const varsfm::SurfaceScore s = varsfm::ScoreSurface(mesh, truth, score_options, seen);
-      std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.4f / %.4f | %.1f |\n", name,
+      std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.4f / %.4f | %.1f |\n", name.c_str(),
                   mesh.faces.size(), s.accuracy, s.completeness, s.fscore,
                   s.median_accuracy_distance, s.median_completeness_distance, seconds);
     }

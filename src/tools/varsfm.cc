@@ -310,8 +310,8 @@ void AddMapCommand(CLI::App* app) {
 
 // The surface methods by name (mesh/surface.h).
 Choices<varsfm::SurfaceMethod> SurfaceMethods() {
-  return {{"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
-          {"delaunay", varsfm::SurfaceMethod::kDelaunay},
+  return {{"delaunay", varsfm::SurfaceMethod::kDelaunay},
+          {"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
           {"afront", varsfm::SurfaceMethod::kAdvancingFront}};
 }
 
@@ -336,7 +336,8 @@ void AddRunCommand(CLI::App* app) {
       ->capture_default_str();
   AddChoice(
       cmd, "--surface", &options->surface.method, SurfaceMethods(),
-      "mesh stage: screened Poisson, visibility-based Delaunay graph cut, or advancing front");
+      "mesh stage: visibility-based Delaunay graph cut, screened Poisson, or advancing "
+      "front");
   AddMapperOptions(cmd, &options->map);
   cmd->callback([options] { varsfm::RunAll(*options); });
 }
@@ -418,7 +419,7 @@ void AddMeshCommand(CLI::App* app) {
                   "delaunay: the sparse model whose cameras see the points of INPUT.vis "
                   "(default: INPUT's folder/sparse)");
   AddChoice(cmd, "--method", &options->surface.method, SurfaceMethods(),
-            "screened Poisson, visibility-based Delaunay graph cut, or advancing front");
+            "visibility-based Delaunay graph cut, screened Poisson, or advancing front");
   cmd->add_option("--max-depth", options->surface.max_depth,
                   "screened Poisson: largest octree depth (the depth follows the cloud)")
       ->capture_default_str();

@@ -60,6 +60,13 @@ PointCloud Cube(int per_side) {
   return cloud;
 }
 
+// Screened Poisson (the default is the Delaunay surface, which needs visibility).
+SurfaceOptions Poisson() {
+  SurfaceOptions options;
+  options.method = SurfaceMethod::kScreenedPoisson;
+  return options;
+}
+
 double CubeDistance(const Eigen::Vector3d& p) {
   const Eigen::Vector3d q = p.cwiseAbs() - Eigen::Vector3d::Ones();
   const double outside = q.cwiseMax(0.0).norm();
@@ -69,7 +76,7 @@ double CubeDistance(const Eigen::Vector3d& p) {
 TEST(Surface, PoissonSphereIsClosedManifoldOnTheSurface) {
   const PointCloud cloud = Sphere(4000);
   SurfaceStats stats;
-  const TriangleMesh mesh = ReconstructSurface(cloud, {}, &stats);
+  const TriangleMesh mesh = ReconstructSurface(cloud, Poisson(), &stats);
   ASSERT_FALSE(mesh.faces.empty());
   const EdgeTopology topology = ComputeEdgeTopology(mesh);
   EXPECT_EQ(topology.non_manifold_edges, 0u);
@@ -91,7 +98,7 @@ TEST(Surface, PoissonSphereIsClosedManifoldOnTheSurface) {
 TEST(Surface, PoissonCubeVerticesNearTheFaces) {
   const PointCloud cloud = Cube(40);
   SurfaceStats stats;
-  const TriangleMesh mesh = ReconstructSurface(cloud, {}, &stats);
+  const TriangleMesh mesh = ReconstructSurface(cloud, Poisson(), &stats);
   EXPECT_EQ(ComputeEdgeTopology(mesh).non_manifold_edges, 0u);
   // Poisson rounds the edges and corners (its smoothness); away from them the surface must be
   // within one spacing of the faces.
@@ -110,7 +117,7 @@ TEST(Surface, PoissonTrimsTheSurfaceOverAMissingHalf) {
   // A hemisphere: Poisson closes it with a surface bulging over the open side; trimming must
   // remove that part, leaving an open but manifold mesh near the data.
   const PointCloud cloud = Sphere(6000, 0.0);
-  SurfaceOptions options;
+  const SurfaceOptions options = Poisson();
   SurfaceStats stats;
   const TriangleMesh mesh = ReconstructSurface(cloud, options, &stats);
   const EdgeTopology topology = ComputeEdgeTopology(mesh);
@@ -142,8 +149,8 @@ TEST(Surface, PoissonIsDeterministic) {
   // Screened Poisson runs single-threaded by default: the same cloud gives the same mesh bit
   // for bit, also twice in one process.
   const PointCloud cloud = Sphere(2000, -0.3);
-  const TriangleMesh a = ReconstructSurface(cloud, {});
-  const TriangleMesh b = ReconstructSurface(cloud, {});
+  const TriangleMesh a = ReconstructSurface(cloud, Poisson());
+  const TriangleMesh b = ReconstructSurface(cloud, Poisson());
   ASSERT_FALSE(a.faces.empty());
   EXPECT_EQ(a.vertices, b.vertices);
   EXPECT_EQ(a.faces, b.faces);
@@ -152,7 +159,7 @@ TEST(Surface, PoissonIsDeterministic) {
 
 TEST(Surface, ScreenedPoissonDepthFollowsTheCloud) {
   // The same sphere sampled 4x denser halves the spacing: one octree level deeper.
-  SurfaceOptions options;
+  SurfaceOptions options = Poisson();
   options.min_depth = 1;  // the default floor would hold both
   SurfaceStats coarse, fine;
   ReconstructSurface(Sphere(4000), options, &coarse);
@@ -164,7 +171,7 @@ TEST(Surface, ScreenedPoissonDepthFollowsTheCloud) {
 TEST(Surface, ScreenedPoissonPassesTheMeshCheck) {
   SurfaceStats stats;
   // Dense enough that half a spacing is well under 0.5 % of the extent.
-  const TriangleMesh mesh = ReconstructSurface(Sphere(40000, -0.5), {}, &stats);
+  const TriangleMesh mesh = ReconstructSurface(Sphere(40000, -0.5), Poisson(), &stats);
   EXPECT_EQ(stats.quality.num_faces, mesh.faces.size());
   EXPECT_EQ(stats.quality.num_points, stats.input_points);
   EXPECT_LT(stats.quality.RelativeDistance(), 0.005);

@@ -1,11 +1,14 @@
 #pragma once
-// Surface reconstruction from a dense oriented point cloud. Default: screened Poisson (Kazhdan &
-// Hoppe 2013, screened_poisson.h) at an octree depth chosen from the cloud's size over its point
-// spacing, on every point; then trimmed where the surface leaves the data (by the sampling
-// density the reconstruction reports and by the distance to the nearest point). Advancing front
-// (advancing_front.h) and the visibility-based Delaunay surface (delaunay_surface.h) are
-// selectable. Every result passes the mesh check (mesh_quality.h) or
-// the reconstruction fails with one line.
+// Surface reconstruction from a dense point cloud. Default: the visibility-based Delaunay surface
+// (delaunay_surface.h): the points tetrahedralised, each tetrahedron labelled inside or outside
+// by a graph cut weighted by the rays camera -> point, so that it does not close over the sky or
+// weakly textured space; it needs the cameras that saw each point (surface_input.h). The
+// held-out views that chose it: bench/results/2026-12-03-surface-patchmatch.md. Selectable:
+// screened Poisson (Kazhdan & Hoppe 2013, screened_poisson.h) at an octree depth chosen from the
+// cloud's size over its point spacing, on every point, then trimmed where the surface leaves the
+// data (by the sampling density the reconstruction reports and by the distance to the nearest
+// point); advancing front (advancing_front.h). Every result passes the mesh check
+// (mesh_quality.h) or the reconstruction fails with one line.
 //
 // CGAL's Poisson (the 2006 method), the former default, is gone: it crashed in
 // facets_in_complex_2_to_triangle_mesh on bundler/kermit's cloud, and on the outdoor clouds of
@@ -24,7 +27,7 @@ namespace varsfm {
 enum class SurfaceMethod { kScreenedPoisson, kAdvancingFront, kDelaunay };
 
 struct SurfaceOptions {
-  SurfaceMethod method = SurfaceMethod::kScreenedPoisson;
+  SurfaceMethod method = SurfaceMethod::kDelaunay;
   // Screened Poisson: the finest octree cells are about cell_spacing x the average point
   // spacing, so a finest cell holds about cell_spacing^2 samples of the surface: Kazhdan's
   // guidance for noisy samples is 15-20 samples per node (1-5 for noise-free ones), and dense

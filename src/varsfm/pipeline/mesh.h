@@ -35,7 +35,8 @@ struct MeshSummary {
 };
 
 // Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
-// without normals when the method is Poisson, or a mesh that fails the check (mesh_quality.h).
+// without normals when the method is Poisson, one without visibility (in the PLY, or INPUT.vis
+// with the sparse model) when it is Delaunay, or a mesh that fails the check (mesh_quality.h).
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 // The figures summary.json keeps of a mesh stage: points, octree depth, vertices, faces, median
