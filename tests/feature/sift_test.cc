@@ -73,6 +73,26 @@ TEST(Sift, DownscaledExtractionMapsBackToOriginalPixels) {
   }
 }
 
+// An image larger than max_image_size is extracted from octave 0 at max_image_size, with no
+// upsampled octave: its finest keypoints have sigma 1.6 px at that size (SIFT's base sigma),
+// less at most the sub-level interpolation of the scale (half a level, 2^(-1/6)). Upsampling
+// would give keypoints down to half that. Random noise has extrema at every scale.
+TEST(Sift, LargeImageHasNoUpsampledOctave) {
+  cv::Mat noise(600, 800, CV_8UC1);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  SiftOptions options;
+  options.max_image_size = 400;  // half size: one pixel there is 2 original pixels
+  const ImageFeatures features = ExtractSift(noise, options);
+  ASSERT_GT(features.keypoints.size(), 30u);
+  const double ratio = 800.0 / options.max_image_size;
+  double finest = std::numeric_limits<double>::max();
+  for (const FeatureKeypoint& kp : features.keypoints)
+    finest = std::min<double>(finest, kp.Scale());
+  EXPECT_GE(finest, 1.6 * std::pow(2.0, -1.0 / 6.0) * ratio * 0.99);
+  EXPECT_LT(finest, 1.6 * ratio * 1.5);  // the finest octave is there
+}
+
 TEST(Sift, FeaturelessImageGivesNoFeatures) {
   const cv::Mat flat(120, 160, CV_8UC1, cv::Scalar(90));
   const ImageFeatures features = ExtractSift(flat, SiftOptions{});

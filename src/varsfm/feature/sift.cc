@@ -23,7 +23,16 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   cv::Mat input = gray;
   const int max_side = std::max(gray.cols, gray.rows);
   if (max_side > options.max_image_size) {
-    const double scale = static_cast<double>(options.max_image_size) / max_side;
+    // OpenCV's SIFT always doubles its input for its first octave (octave -1, Lowe 2004
+    // section 3.3): for an image downscaled to max_image_size that interpolates fine detail the
+    // downscale has just removed, in an octave of 4x the pixels that costs most of the pyramid.
+    // A larger image is downscaled to half max_image_size instead, so that the doubled first
+    // octave lies at max_image_size: OpenCV blurs the doubled image from an assumed sigma 1.0
+    // (2 x 0.5) to sigma 1.6, and a Gaussian of sigma 1.6 px keeps only
+    // exp(-2 pi^2 1.6^2 0.25^2) = 4 % of the frequencies the half-size image cannot hold, so
+    // that octave is the max_image_size image's octave 0 (no upsampling), at a quarter of the
+    // cost. Images up to max_image_size keep their doubled octave.
+    const double scale = 0.5 * options.max_image_size / max_side;
     cv::resize(gray, input, cv::Size(), scale, scale, cv::INTER_AREA);
   }
   // Per-axis factors: rounding the resized size makes them differ slightly.

@@ -10,8 +10,10 @@ struct SiftOptions {
   // Keep at most this many feature locations, the strongest by detector response, with all
   // their orientations (as COLMAP's max_num_features).
   int max_features = 8192;
-  // Images whose larger side exceeds this are downscaled for extraction (speed and memory);
-  // keypoints are scaled back to the original pixels.
+  // The finest scale of a large image: an image whose larger side exceeds this is extracted at
+  // this size, from octave 0 (no upsampled octave; sift.cc says how), for speed and memory.
+  // Smaller images are extracted at their size from an upsampled octave -1 (Lowe 2004).
+  // Keypoints are scaled back to the original pixels.
   int max_image_size = 3200;
   // OpenCV's contrast threshold (in units of a [0,1] image, divided by OpenCV by the number of
   // layers, 3); lower gives more, weaker features. 0.02 is COLMAP's peak threshold (0.02 / 3);
