@@ -2,12 +2,14 @@
 // (synthetic/rendered_scene.h) filmed by a zooming camera, written as OUT/images/image_NNNN.png
 // with Strecha ground truth in OUT/gt/.
 //   render_sequence OUT NUM_IMAGES [--width 320] [--height 240] [--zoom 1.6] [--seed S]
-//                   [--path orbit|street|street-and-back] [--arc 60] [--step 0.1]
+//                   [--path orbit|street|street-and-back|photos] [--arc 60] [--step 0.1]
 //                   [--jpeg QUALITY] [--supersampling 2]
 // orbit: around the room corner over --arc degrees for the whole sequence (zoom x1 -> x--zoom);
 // street: along a facade, --step metres per image (zoom in and out every 100 images), so that
 // every point stays in view for a bounded number of images however long the sequence;
-// street-and-back: along the facade for half the images and back to the start (a loop).
+// street-and-back: along the facade for half the images and back to the start (a loop);
+// photos: an unordered collection of the street (--step x NUM_IMAGES metres long) from random
+// positions and directions, focal length x1 .. x--zoom at random per photo.
 // --jpeg: the images are written as image_NNNN.jpg of that quality instead (as phone photos,
 // for bench/sift_speed.sh).
 #include <cstdio>
@@ -24,7 +26,7 @@ namespace {
 int Usage(const char* argv0) {
   std::fprintf(stderr,
                "usage: %s OUT NUM_IMAGES [--width W] [--height H] [--zoom Z] [--seed S] "
-               "[--path orbit|street|street-and-back] [--arc DEGREES] [--step METRES] "
+               "[--path orbit|street|street-and-back|photos] [--arc DEGREES] [--step METRES] "
                "[--jpeg QUALITY] [--supersampling N]\n",
                argv0);
   return 2;
@@ -66,6 +68,8 @@ int main(int argc, char** argv) {
         options.path = varsfm::CameraPath::kStreet;
       else if (flag == "--path" && value == "street-and-back")
         options.path = varsfm::CameraPath::kStreetAndBack;
+      else if (flag == "--path" && value == "photos")
+        options.path = varsfm::CameraPath::kPhotos;
       else
         return Usage(argv[0]);
     }

@@ -142,6 +142,26 @@ cv::Vec3f Trace(const std::vector<TexturedQuad>& quads, const Eigen::Vector3d& o
   return colour;
 }
 
+// One photo of kPhotos: centre, aimed point and zoom fraction drawn independently of every
+// other photo, so that the collection has no order.
+struct RandomPhotoView {
+  Eigen::Vector3d centre, target;
+  double zoom_fraction = 0;
+};
+
+RandomPhotoView RandomPhotoViewpoint(double street_length, Rng& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  RandomPhotoView view;
+  const double x = street_length * unit(rng);
+  // The boxes stand at most 2.2 m in front of the facade (z >= 1.8): cameras stay behind z = 1.
+  view.centre = Eigen::Vector3d(x, -0.9 + 1.0 * unit(rng), -1.0 + 2.0 * unit(rng));
+  const double yaw = (2.0 * unit(rng) - 1.0) * 35.0 * std::numbers::pi / 180.0;
+  const double depth = 4.0 - view.centre.z();
+  view.target = Eigen::Vector3d(x + depth * std::tan(yaw), -0.6 + 1.5 * unit(rng), 4.0);
+  view.zoom_fraction = unit(rng);
+  return view;
+}
+
 }  // namespace
 
 RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
@@ -160,7 +180,12 @@ RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
     const double t = static_cast<double>(i) / (o.num_images - 1);
     Eigen::Vector3d centre, target;
     double zoom_fraction = t;
-    if (street) {
+    if (o.path == CameraPath::kPhotos) {
+      const RandomPhotoView view = RandomPhotoViewpoint(street_length, rng);
+      centre = view.centre;
+      target = view.target;
+      zoom_fraction = view.zoom_fraction;
+    } else if (street) {
       // Walking along the facade about 4 m away, looking at it slightly ahead; the path
       // meanders in height and distance (camera centres on a line would leave the rotation
       // about it out of the evaluation's similarity alignment); the zoom goes in and out with a

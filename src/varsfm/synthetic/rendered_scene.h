@@ -22,12 +22,16 @@ namespace varsfm {
 // for a bounded number of images however long the sequence, as in a video walked or flown
 // along a street (bench/scale's long sequences). kStreetAndBack: the first half of the images
 // along the street, the second half back to the start 1 m nearer the facade, looking the other
-// way ahead: a walk whose end overlaps its start (loop closure).
-enum class CameraPath { kOrbit, kStreet, kStreetAndBack };
+// way ahead: a walk whose end overlaps its start (loop closure). kPhotos: the street of
+// kStreet's length, photographed from independent random positions (3-5 m from the facade)
+// in random directions (yaw within 35 deg of the facade's normal, pitch from the aimed height)
+// with a random focal length from x1 to x`zoom`: an unordered photo collection, whose image
+// index says nothing about where it was taken.
+enum class CameraPath { kOrbit, kStreet, kStreetAndBack, kPhotos };
 
 struct RenderedSceneOptions {
   CameraPath path = CameraPath::kOrbit;
-  double street_step = 0.1;  // kStreet: metres per image
+  double street_step = 0.1;  // kStreet, kPhotos: metres of street per image
   int num_images = 12;
   int width = 800;
   int height = 600;
