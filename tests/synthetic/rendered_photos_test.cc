@@ -14,9 +14,9 @@ RenderedSceneOptions PhotoOptions() {
   options.path = CameraPath::kPhotos;
   options.num_images = 40;
   options.street_step = 0.5;  // a 19.5 m street
-  options.width = 64;
-  options.height = 48;
-  options.focal_start = 51.2;
+  options.width = 96;
+  options.height = 72;
+  options.focal_start = 76.8;
   options.zoom = 1.6;
   options.supersampling = 1;
   return options;
