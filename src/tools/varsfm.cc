@@ -126,6 +126,17 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DensifyOptions* dense) {
   cmd->add_option("--dense-iterations", dense->mvs.patchmatch.num_iterations,
                   "PatchMatch iterations (red and black sweeps)")
       ->capture_default_str();
+  cmd->add_option("--dense-levels", dense->mvs.patchmatch.num_levels,
+                  "PatchMatch coarse-to-fine levels (1: the depth-map size only)")
+      ->capture_default_str();
+  cmd->add_option("--dense-depth-range-percentile", dense->mvs.sources.depth_range_percentile,
+                  "PatchMatch depth range: this percentile of a view's sparse depths to 100 minus "
+                  "it, widened by a quarter (0: every sparse point)")
+      ->capture_default_str();
+  cmd->add_option("--dense-geometric-iterations",
+                  dense->mvs.patchmatch.num_geometric_iterations,
+                  "PatchMatch geometric-consistency pass iterations (0: none)")
+      ->capture_default_str();
   cmd->add_option("--dense-min-views", dense->mvs.fusion.min_fused_views,
                   "views a fused PatchMatch point needs")
       ->capture_default_str();

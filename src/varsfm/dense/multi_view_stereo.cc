@@ -117,7 +117,7 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   std::vector<image_t> references;
   std::map<image_t, DepthRange> ranges;
   for (const auto& [id, list] : sources) {
-    const DepthRange range = SparseDepthRange(rec, id);
+    const DepthRange range = SparseDepthRange(rec, id, options.sources.depth_range_percentile);
     if (range.max_depth > range.min_depth && range.min_depth > 0)
       references.push_back(id), ranges[id] = range;
   }
@@ -148,26 +148,54 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   timer.Restart();
 
   std::vector<FusionView> fusion(references.size());
+  const bool geometric = options.patchmatch.num_geometric_iterations > 0;
+  const auto source_indices = [&](image_t id) {
+    std::vector<uint32_t> indices;
+    for (image_t s : sources.at(id)) indices.push_back(index.at(s));
+    return indices;
+  };
+  const auto depth_range = [&](image_t id) {
+    PatchMatchInit init;
+    init.min_depth = static_cast<float>(ranges.at(id).min_depth);
+    init.max_depth = static_cast<float>(ranges.at(id).max_depth);
+    return init;
+  };
   {
     Progress progress("patchmatch", references.size());
     tbb::parallel_for(size_t{0}, references.size(), [&](size_t r) {
       const image_t id = references[r];
       const LoadedView& view = views[index.at(id)];
-      PatchMatchInit init;
-      init.min_depth = static_cast<float>(ranges.at(id).min_depth);
-      init.max_depth = static_cast<float>(ranges.at(id).max_depth);
+      PatchMatchInit init = depth_range(id);
       init.prior = PriorDepths(rec, id, view, inputs.prior);
-      std::vector<uint32_t> source_indices;
-      for (image_t s : sources.at(id)) source_indices.push_back(index.at(s));
       FusionView& f = fusion[r];
-      f.map = EstimateDepthMap(patchmatch_views, index.at(id), source_indices, init,
-                               options.patchmatch, DeriveSeed(options.seed, id));
+      // A geometric pass starts from every first-pass hypothesis, the uncertain ones included.
+      f.map = EstimateDepthMap(patchmatch_views, index.at(id), source_indices(id), init,
+                               options.patchmatch, DeriveSeed(options.seed, id), !geometric);
       f.image_id = id;
       f.K = view.patchmatch.K;
       f.cam_from_world = view.patchmatch.cam_from_world;
       f.color = view.image.color;
       progress.Tick();
     });
+  }
+  if (geometric) {
+    // Every view's second pass reads the first-pass maps of its sources, so all of them are kept
+    // until every second pass is done (and the result does not depend on the order).
+    std::map<image_t, const DepthMap*> first_pass;
+    for (const FusionView& f : fusion) first_pass[f.image_id] = &f.map;
+    std::vector<DepthMap> refined(references.size());
+    Progress progress("patchmatch (geometric)", references.size());
+    tbb::parallel_for(size_t{0}, references.size(), [&](size_t r) {
+      const image_t id = references[r];
+      std::vector<const DepthMap*> source_maps;
+      for (image_t s : sources.at(id))
+        source_maps.push_back(first_pass.count(s) ? first_pass.at(s) : nullptr);
+      refined[r] = RefineDepthMapGeometrically(
+          patchmatch_views, index.at(id), source_indices(id), source_maps, fusion[r].map,
+          depth_range(id), options.patchmatch, DeriveSeed(DeriveSeed(options.seed, id), 1));
+      progress.Tick();
+    });
+    for (size_t r = 0; r < references.size(); ++r) fusion[r].map = std::move(refined[r]);
   }
   st.num_views = references.size();
   st.num_depths = CountDepths(fusion);

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
 
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
@@ -17,6 +18,7 @@ namespace {
 constexpr float kMaxCost = 2.0f;  // 1 - NCC of anti-correlated windows; also "no view"
 constexpr int kMaxSources = 16;
 constexpr int kMaxSamples = 15 * 15;
+constexpr int kMinLevelSize = 32;  // px, the shorter side of the coarsest pyramid level
 
 // A few random numbers per pixel and sweep: SplitMix64 from a seed derived from (seed, sweep,
 // pixel), so draws do not depend on which thread updates which pixel or in what order.
@@ -44,6 +46,11 @@ struct SourceGeometry {
   Eigen::Vector3f b;  // K_s t
   const float* pixels = nullptr;
   int width = 0, height = 0;
+  // The geometric pass: the source's depth map, and the way back into the reference,
+  // K_r X_r = d A_back (u, v, 1)^T - b_back for the source pixel (u, v) at depth d.
+  const DepthMap* map = nullptr;
+  Eigen::Matrix3f A_back;  // K_r R^T K_s^-1
+  Eigen::Vector3f b_back;  // K_r R^T t
 };
 
 // The reference window of one pixel: sample offsets, intensities and bilateral weights, with the
@@ -67,10 +74,19 @@ float Sample(const SourceGeometry& s, float x, float y) {
 
 class DepthMapEstimator {
  public:
+  // `upsampled` (null, or the reference's size): the planes of the next coarser level, or of the
+  // photometric pass, a starting hypothesis beside the prior. `source_maps` (null, or one per
+  // source): the sources' depth maps, which add the geometric term to the cost.
   DepthMapEstimator(const std::vector<PatchMatchView>& views, uint32_t reference,
                     const std::vector<uint32_t>& sources, const PatchMatchInit& init,
+                    const DepthMap* upsampled, const std::vector<const DepthMap*>* source_maps,
                     const PatchMatchOptions& options, uint64_t seed)
-      : options_(options), init_(init), seed_(seed) {
+      : options_(options),
+        init_(init),
+        upsampled_(upsampled),
+        seed_(seed),
+        geometric_(source_maps != nullptr),
+        num_iterations_(source_maps ? options.num_geometric_iterations : options.num_iterations) {
     const PatchMatchView& ref = views[reference];
     ref_.pixels = ref.gray.ptr<float>();
     ref_.width = ref.gray.cols;
@@ -85,6 +101,12 @@ class DepthMapEstimator {
       g.pixels = view.gray.ptr<float>();
       g.width = view.gray.cols;
       g.height = view.gray.rows;
+      if (source_maps) {
+        g.map = (*source_maps)[sources_.size()];
+        const Rigid3d ref_from_source = source_from_ref.Inverse();
+        g.A_back = (ref.K * ref_from_source.R() * view.K.inverse()).cast<float>();
+        g.b_back = (-ref.K * ref_from_source.translation).cast<float>();
+      }
       sources_.push_back(g);
     }
     map_.width = ref_.width;
@@ -96,17 +118,33 @@ class DepthMapEstimator {
     flat_.assign(n, 0);
   }
 
-  DepthMap Run() {
+  // `drop_uncertain`: depths above max_cost are dropped (the finest level); a coarser level keeps
+  // every hypothesis to start the next from.
+  DepthMap Run(bool drop_uncertain) {
     ForEachRow([&](int y) {
       for (int x = 0; x < map_.width; ++x) Initialise(x, y);
     });
-    for (int iteration = 0; iteration < options_.num_iterations; ++iteration)
+    for (int iteration = 0; iteration < num_iterations_; ++iteration)
       for (int colour = 0; colour < 2; ++colour)
         ForEachRow([&](int y) {
           for (int x = (y + colour) % 2; x < map_.width; x += 2) Update(x, y, iteration, colour);
         });
+    if (geometric_ && drop_uncertain) {
+      // The depths are kept or dropped by their photometric cost alone, as after the first pass;
+      // the geometric term only chose among the hypotheses.
+      geometric_ = false;
+      ForEachRow([&](int y) {
+        for (int x = 0; x < map_.width; ++x) {
+          const size_t i = map_.Index(x, y);
+          if (flat_[i]) continue;
+          ReferenceWindow w;
+          BuildWindow(x, y, &w);
+          map_.cost[i] = Cost(w, x, y, {map_.depth[i], map_.normal[i]});
+        }
+      });
+    }
     for (size_t i = 0; i < map_.depth.size(); ++i)
-      if (flat_[i] || map_.cost[i] > options_.max_cost) map_.depth[i] = 0;
+      if (flat_[i] || (drop_uncertain && map_.cost[i] > options_.max_cost)) map_.depth[i] = 0;
     return std::move(map_);
   }
 
@@ -170,6 +208,25 @@ class DepthMapEstimator {
     return std::clamp(1.0f - ncc, 0.0f, kMaxCost);
   }
 
+  // The geometric term of Schoenberger et al. 2016 (section 4.2, eq. 11): the forward-backward
+  // reprojection error, in pixels, of the pixel's point through the source's depth map, capped
+  // and weighted. A source pixel without a confident depth counts as the cap.
+  float GeometricCost(const SourceGeometry& s, float depth, float px, float py) const {
+    const float cap = static_cast<float>(options_.geometric_max_error);
+    const float weight = static_cast<float>(options_.geometric_weight);
+    const Eigen::Vector3f q = depth * (s.A * Eigen::Vector3f(px, py, 1.0f)) + s.b;
+    if (!s.map || q.z() <= 1e-6f) return weight * cap;
+    const float qx = q.x() / q.z(), qy = q.y() / q.z();
+    if (!(qx >= 0 && qy >= 0 && qx < s.width && qy < s.height)) return weight * cap;
+    const size_t j = s.map->Index(static_cast<int>(qx), static_cast<int>(qy));
+    const float d = s.map->depth[j];
+    if (d <= 0 || s.map->cost[j] > options_.max_cost) return weight * cap;
+    const Eigen::Vector3f back = d * (s.A_back * Eigen::Vector3f(qx, qy, 1.0f)) - s.b_back;
+    if (back.z() <= 1e-6f) return weight * cap;
+    const float error = std::hypot(back.x() / back.z() - px, back.y() / back.z() - py);
+    return weight * std::min(error, cap);
+  }
+
   // The mean of the `num_best_views` lowest view costs of a hypothesis at pixel (x, y).
   float Cost(const ReferenceWindow& w, int x, int y, const Hypothesis& h) const {
     const Eigen::Vector3f ray = Ray(x, y);
@@ -178,8 +235,10 @@ class DepthMapEstimator {
     const Eigen::Vector3f m = K_inv_.transpose() * h.normal;
     std::array<float, kMaxSources> costs;
     const int n = static_cast<int>(sources_.size());
-    for (int s = 0; s < n; ++s)
+    for (int s = 0; s < n; ++s) {
       costs[s] = ViewCost(w, sources_[s], m, 1.0f / c, x + 0.5f, y + 0.5f);
+      if (geometric_) costs[s] += GeometricCost(sources_[s], h.depth, x + 0.5f, y + 0.5f);
+    }
     const int best = std::min(options_.num_best_views, n);
     std::partial_sort(costs.begin(), costs.begin() + best, costs.begin() + n);
     float sum = 0;
@@ -213,22 +272,32 @@ class DepthMapEstimator {
   void Initialise(int x, int y) {
     const size_t i = map_.Index(x, y);
     const Eigen::Vector3f ray = Ray(x, y);
-    PixelRandom random(PixelSeed(i, 0));
-    Hypothesis h;
-    if (!init_.prior.depth.empty() && init_.prior.depth[i] > 0) {
-      h.depth = init_.prior.depth[i];
-      const Eigen::Vector3f& n = init_.prior.normal[i];
-      h.normal = n.squaredNorm() > 0.5f ? FacingCamera(n, ray) : -ray.normalized();
-    } else {
-      h.depth = RandomDepth(random);
-      h.normal = RandomNormal(random, ray);
-    }
     ReferenceWindow w;
     BuildWindow(x, y, &w);
     flat_[i] = w.variance < options_.min_ncc_variance;
-    map_.depth[i] = h.depth;
-    map_.normal[i] = h.normal;
-    map_.cost[i] = flat_[i] ? kMaxCost : Cost(w, x, y, h);
+    // The lower-cost of the prior's and the coarser level's hypotheses, a random one without.
+    Hypothesis best;
+    float best_cost = kMaxCost;
+    bool have = false;
+    const auto consider = [&](const Hypothesis& h) {
+      const float cost = flat_[i] ? kMaxCost : Cost(w, x, y, h);
+      if (!have || cost < best_cost) best = h, best_cost = cost, have = true;
+    };
+    const auto prior_normal = [&](const Eigen::Vector3f& n) {
+      return n.squaredNorm() > 0.5f ? FacingCamera(n, ray) : Eigen::Vector3f(-ray.normalized());
+    };
+    if (!init_.prior.depth.empty() && init_.prior.depth[i] > 0)
+      consider({init_.prior.depth[i], prior_normal(init_.prior.normal[i])});
+    if (upsampled_ && upsampled_->depth[i] > 0)
+      consider({upsampled_->depth[i], prior_normal(upsampled_->normal[i])});
+    if (!have) {
+      PixelRandom random(PixelSeed(i, 0));
+      const float depth = RandomDepth(random);
+      consider({depth, RandomNormal(random, ray)});
+    }
+    map_.depth[i] = best.depth;
+    map_.normal[i] = best.normal;
+    map_.cost[i] = best_cost;
   }
 
   void Update(int x, int y, int iteration, int colour) {
@@ -282,7 +351,10 @@ class DepthMapEstimator {
 
   const PatchMatchOptions& options_;
   const PatchMatchInit& init_;
+  const DepthMap* upsampled_;
   uint64_t seed_;
+  bool geometric_;
+  int num_iterations_;
   SourceGeometry ref_;
   Eigen::Matrix3f K_inv_;
   std::vector<SourceGeometry> sources_;
@@ -290,11 +362,106 @@ class DepthMapEstimator {
   std::vector<uint8_t> flat_;
 };
 
-}  // namespace
+// Half the size (rounded up) by area averaging. OpenCV's resize maps pixel centres onto pixel
+// centres, so in the coordinates used here (centres at i + 0.5) u' = s u and K scales with s.
+PatchMatchView HalfSize(const PatchMatchView& view) {
+  PatchMatchView half;
+  const cv::Size size((view.gray.cols + 1) / 2, (view.gray.rows + 1) / 2);
+  cv::resize(view.gray, half.gray, size, 0, 0, cv::INTER_AREA);
+  const Eigen::Vector3d scale(static_cast<double>(size.width) / view.gray.cols,
+                              static_cast<double>(size.height) / view.gray.rows, 1.0);
+  half.K = scale.asDiagonal() * view.K;
+  half.cam_from_world = view.cam_from_world;
+  return half;
+}
 
-DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
-                          const std::vector<uint32_t>& sources, const PatchMatchInit& init,
-                          const PatchMatchOptions& options, uint64_t seed) {
+// The prior at another resolution: each depth moves to the pixel its pixel's centre falls in
+// (depth along the optical axis does not change with K's scale), the nearest where several do.
+DepthMap ResizePrior(const DepthMap& prior, int width, int height) {
+  DepthMap out;
+  out.width = width;
+  out.height = height;
+  out.depth.assign(static_cast<size_t>(width) * height, 0);
+  out.normal.assign(out.depth.size(), Eigen::Vector3f::Zero());
+  const float sx = static_cast<float>(width) / prior.width;
+  const float sy = static_cast<float>(height) / prior.height;
+  for (int y = 0; y < prior.height; ++y)
+    for (int x = 0; x < prior.width; ++x) {
+      const float d = prior.depth[prior.Index(x, y)];
+      if (d <= 0) continue;
+      const int u = std::min(static_cast<int>(sx * (x + 0.5f)), width - 1);
+      const int v = std::min(static_cast<int>(sy * (y + 0.5f)), height - 1);
+      const size_t j = out.Index(u, v);
+      if (out.depth[j] > 0 && out.depth[j] <= d) continue;
+      out.depth[j] = d;
+      out.normal[j] = prior.normal[prior.Index(x, y)];
+    }
+  return out;
+}
+
+// The coarse level's planes at the fine level's pixels: each fine pixel takes the plane of the
+// coarse pixel its centre falls in, intersected with its own ray (so a slanted plane keeps its
+// slope rather than becoming steps).
+DepthMap UpsamplePlanes(const DepthMap& coarse, const Eigen::Matrix3d& K_coarse, int width,
+                        int height, const Eigen::Matrix3d& K_fine) {
+  DepthMap out;
+  out.width = width;
+  out.height = height;
+  out.depth.assign(static_cast<size_t>(width) * height, 0);
+  out.normal.assign(out.depth.size(), Eigen::Vector3f::Zero());
+  const Eigen::Matrix3f coarse_inv = K_coarse.inverse().cast<float>();
+  const Eigen::Matrix3f fine_inv = K_fine.inverse().cast<float>();
+  const float sx = static_cast<float>(coarse.width) / width;
+  const float sy = static_cast<float>(coarse.height) / height;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const int u = std::min(static_cast<int>(sx * (x + 0.5f)), coarse.width - 1);
+      const int v = std::min(static_cast<int>(sy * (y + 0.5f)), coarse.height - 1);
+      const size_t j = coarse.Index(u, v);
+      const float d = coarse.depth[j];
+      if (d <= 0) continue;
+      const Eigen::Vector3f& n = coarse.normal[j];
+      const float along_fine = n.dot(fine_inv * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f));
+      const float along_coarse = n.dot(coarse_inv * Eigen::Vector3f(u + 0.5f, v + 0.5f, 1.0f));
+      const float depth = along_fine < -1e-3f ? d * along_coarse / along_fine : d;
+      out.depth[out.Index(x, y)] = depth > 0 ? depth : d;
+      out.normal[out.Index(x, y)] = n;
+    }
+  return out;
+}
+
+// Coarse to fine: with `levels` > 1 (and room for a half-size level) the depth map is first
+// estimated at half the size, where the same window covers four times the area, so planes
+// converge on weak texture; its planes then start this level beside the prior (as multi-scale
+// PatchMatch does: Xu & Tao, "Multi-Scale Geometric Consistency Guided Multi-View Stereo", CVPR
+// 2019, without the geometric term).
+DepthMap EstimateLevels(const std::vector<PatchMatchView>& views, uint32_t reference,
+                        const std::vector<uint32_t>& sources, const PatchMatchInit& init,
+                        const PatchMatchOptions& options, uint64_t seed, int levels, bool finest) {
+  const PatchMatchView& ref = views[reference];
+  DepthMap upsampled;
+  if (levels > 1 && std::min(ref.gray.cols, ref.gray.rows) >= 2 * kMinLevelSize) {
+    std::vector<PatchMatchView> half(views.size());
+    half[reference] = HalfSize(ref);
+    for (uint32_t s : sources) half[s] = HalfSize(views[s]);
+    PatchMatchInit coarse_init;
+    coarse_init.min_depth = init.min_depth;
+    coarse_init.max_depth = init.max_depth;
+    if (!init.prior.depth.empty())
+      coarse_init.prior =
+          ResizePrior(init.prior, half[reference].gray.cols, half[reference].gray.rows);
+    const DepthMap coarse =
+        EstimateLevels(half, reference, sources, coarse_init, options,
+                       DeriveSeed(seed, static_cast<uint64_t>(levels)), levels - 1, false);
+    upsampled = UpsamplePlanes(coarse, half[reference].K, ref.gray.cols, ref.gray.rows, ref.K);
+  }
+  return DepthMapEstimator(views, reference, sources, init,
+                           upsampled.depth.empty() ? nullptr : &upsampled, nullptr, options, seed)
+      .Run(finest);
+}
+
+void CheckInputs(const std::vector<PatchMatchView>& views, uint32_t reference,
+                 const std::vector<uint32_t>& sources, const PatchMatchInit& init) {
   const PatchMatchView& ref = views.at(reference);
   if (ref.gray.type() != CV_32F || ref.gray.cols < 2 || ref.gray.rows < 2)
     Fail("patchmatch: view {} is not a float image of at least 2x2 pixels", reference);
@@ -310,7 +477,36 @@ DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t ref
   if (!init.prior.depth.empty() &&
       (init.prior.width != ref.gray.cols || init.prior.height != ref.gray.rows))
     Fail("patchmatch: prior depth map of view {} has another size", reference);
-  return DepthMapEstimator(views, reference, sources, init, options, seed).Run();
+}
+
+}  // namespace
+
+DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
+                          const std::vector<uint32_t>& sources, const PatchMatchInit& init,
+                          const PatchMatchOptions& options, uint64_t seed, bool drop_uncertain) {
+  CheckInputs(views, reference, sources, init);
+  return EstimateLevels(views, reference, sources, init, options, seed, options.num_levels,
+                        drop_uncertain);
+}
+
+DepthMap RefineDepthMapGeometrically(const std::vector<PatchMatchView>& views, uint32_t reference,
+                                     const std::vector<uint32_t>& sources,
+                                     const std::vector<const DepthMap*>& source_maps,
+                                     const DepthMap& start, const PatchMatchInit& init,
+                                     const PatchMatchOptions& options, uint64_t seed) {
+  CheckInputs(views, reference, sources, init);
+  const PatchMatchView& ref = views[reference];
+  if (start.width != ref.gray.cols || start.height != ref.gray.rows)
+    Fail("patchmatch: starting depth map of view {} has another size", reference);
+  if (source_maps.size() != sources.size())
+    Fail("patchmatch: {} source depth maps for {} source views of view {}", source_maps.size(),
+         sources.size(), reference);
+  for (size_t k = 0; k < sources.size(); ++k)
+    if (source_maps[k] && (source_maps[k]->width != views[sources[k]].gray.cols ||
+                           source_maps[k]->height != views[sources[k]].gray.rows))
+      Fail("patchmatch: depth map of source view {} has another size", sources[k]);
+  return DepthMapEstimator(views, reference, sources, init, &start, &source_maps, options, seed)
+      .Run(true);
 }
 
 void PatchMatchOptions::Check() const {
@@ -319,6 +515,10 @@ void PatchMatchOptions::Check() const {
   CheckGreaterThan("patchmatch sigma_color", sigma_color, 0);
   CheckGreaterThan("patchmatch sigma_spatial", sigma_spatial, 0);
   CheckInRange("--dense-iterations", num_iterations, 0, 50);
+  CheckInRange("--dense-levels", num_levels, 1, 4);
+  CheckInRange("--dense-geometric-iterations", num_geometric_iterations, 0, 50);
+  CheckAtLeast("patchmatch geometric_weight", geometric_weight, 0);
+  CheckGreaterThan("patchmatch geometric_max_error", geometric_max_error, 0);
   CheckInRange("patchmatch num_best_views", num_best_views, 1, kMaxSources);
   CheckInRange("patchmatch max_cost", max_cost, 0.0, 2.0);
   CheckAtLeast("patchmatch min_ncc_variance", min_ncc_variance, 0);

@@ -28,7 +28,17 @@ struct PatchMatchOptions {
   // across depth edges are matched by their centre's side.
   double sigma_color = 0.2;
   double sigma_spatial = 3.0;
-  int num_iterations = 4;          // red + black sweeps
+  int num_iterations = 4;  // red + black sweeps, at each level
+  // Coarse to fine: 2 or more estimates the map first at half the size (recursively) and starts
+  // from its planes; 1: the given size only (the default: what 2 gains and costs on the shared
+  // sets is in bench/results/2026-12-03-dense-levels.md).
+  int num_levels = 1;
+  // A second pass at the finest level whose cost adds, per source view, geometric_weight x the
+  // forward-backward reprojection error (px, capped at geometric_max_error) through the source's
+  // first-pass depth map (Schoenberger et al. 2016, eq. 11; COLMAP's 0.3 and 3 px). 0: none.
+  int num_geometric_iterations = 0;
+  double geometric_weight = 0.3;
+  double geometric_max_error = 3.0;
   int num_best_views = 2;          // the cost is the mean of this many lowest per-view costs
   double max_cost = 0.6;           // 1 - NCC above which a pixel's depth is dropped at the end
   double min_ncc_variance = 1e-5;  // reference windows flatter than this get no depth
@@ -63,8 +73,20 @@ struct PatchMatchInit {
 
 // The depth map of views[reference] against views[s] for s in `sources`. `seed` fixes every
 // random draw (with the pixel and sweep). Parallel over rows (TBB).
+// `drop_uncertain`: false keeps the depths above max_cost (with their cost), for a geometric pass.
 DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
                           const std::vector<uint32_t>& sources, const PatchMatchInit& init,
-                          const PatchMatchOptions& options, uint64_t seed);
+                          const PatchMatchOptions& options, uint64_t seed,
+                          bool drop_uncertain = true);
+
+// The geometric pass (options.num_geometric_iterations sweeps) of views[reference], started from
+// its first-pass map `start`; `source_maps[k]` is the first-pass map of views[sources[k]] (null:
+// none, every point then counts as inconsistent in that view). Depths above max_cost (photometric
+// alone) are dropped.
+DepthMap RefineDepthMapGeometrically(const std::vector<PatchMatchView>& views, uint32_t reference,
+                                     const std::vector<uint32_t>& sources,
+                                     const std::vector<const DepthMap*>& source_maps,
+                                     const DepthMap& start, const PatchMatchInit& init,
+                                     const PatchMatchOptions& options, uint64_t seed);
 
 }  // namespace varsfm

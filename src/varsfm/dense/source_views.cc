@@ -76,7 +76,7 @@ std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& 
   return sources;
 }
 
-DepthRange SparseDepthRange(const Reconstruction& rec, image_t image_id) {
+DepthRange SparseDepthRange(const Reconstruction& rec, image_t image_id, double percentile) {
   const Image& image = rec.image(image_id);
   std::vector<double> depths;
   for (const Point2D& p : image.points2D) {
@@ -87,7 +87,15 @@ DepthRange SparseDepthRange(const Reconstruction& rec, image_t image_id) {
   if (depths.empty()) return {};
   std::sort(depths.begin(), depths.end());
   const size_t last = depths.size() - 1;
-  return {0.75 * depths[last / 100], 1.25 * depths[last - last / 100]};
+  const auto skipped = static_cast<size_t>(static_cast<double>(last) * percentile / 100.0);
+  // On a ground plane running towards the camera the nearest few points are the surface, not
+  // outliers (percentile 0 keeps them). A point nearer than a tenth of the median depth is taken
+  // for an outlier all the same: inverse-depth draws would otherwise go mostly in front of the
+  // scene.
+  const double median = depths[depths.size() / 2];
+  const double nearest =
+      std::max(depths[skipped], *std::lower_bound(depths.begin(), depths.end(), 0.1 * median));
+  return {0.75 * nearest, 1.25 * depths[last - skipped]};
 }
 
 void SourceViewOptions::Check() const {
@@ -95,6 +103,7 @@ void SourceViewOptions::Check() const {
   CheckAtLeast("source view min_shared_points", min_shared_points, 1);
   CheckInRange("source view min_angle_deg", min_angle_deg, 0.0, 90.0);
   CheckInRange("source view good_angle_deg", good_angle_deg, 0.1, 90.0);
+  CheckInRange("--dense-depth-range-percentile", depth_range_percentile, 0.0, 25.0);
 }
 
 }  // namespace varsfm

@@ -17,6 +17,8 @@ struct SourceViewOptions {
   int min_shared_points = 15;    // fewer: not a source
   double min_angle_deg = 1.0;    // points below this angle add nothing (no depth information)
   double good_angle_deg = 10.0;  // the angle from which w_angle is 1
+  // PatchMatch's depth range per view (SparseDepthRange): 0 spans every sparse point it sees.
+  double depth_range_percentile = 1.0;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
@@ -33,8 +35,10 @@ struct DepthRange {
   double min_depth = 0, max_depth = 0;  // 0, 0: the image sees no point in front of it
 };
 
-// The 1st to 99th percentile of the depths of the sparse points the image observes, widened by a
-// quarter at each end (surfaces beyond the sparse points, e.g. a ground plane running out).
-DepthRange SparseDepthRange(const Reconstruction& reconstruction, image_t image_id);
+// The `percentile`-th to (100 - `percentile`)-th percentile of the depths of the sparse points
+// the image observes (points nearer than a tenth of their median left out), widened by a quarter
+// at each end (surfaces beyond the sparse points, e.g. a ground plane running out).
+DepthRange SparseDepthRange(const Reconstruction& reconstruction, image_t image_id,
+                            double percentile = 1.0);
 
 }  // namespace varsfm
