@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   try {
     varsfm::RenderedSceneOptions options;  // the demo's scene: 800 x 600, zooming x1.6
     double tolerance = 0.005;
-    varsfm::DensifyOptions dense;  // PatchMatch, the default
+    varsfm::DenseReconstructionOptions dense;  // PatchMatch, the default
     std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
     for (int i = 1; i + 1 < argc; i += 2) {
       const std::string flag = argv[i];

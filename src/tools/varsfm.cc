@@ -113,7 +113,7 @@ Choices<varsfm::DenseMethod> DenseMethods() {
 }
 
 // The dense method and its multi-view stereo settings (densify and run).
-void AddDenseMethodOptions(CLI::App* cmd, varsfm::DensifyOptions* dense) {
+void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* dense) {
   AddChoice(cmd, "--dense-method", &dense->method, DenseMethods(),
             "match propagation, PatchMatch depth maps, PatchMatch started from propagation, "
             "propagation filled by PatchMatch, or both");
@@ -397,7 +397,7 @@ void AddDemoCommand(CLI::App* app) {
 
 // densify: sparse model + photos -> dense coloured point cloud by match propagation.
 void AddDensifyCommand(CLI::App* app) {
-  auto options = std::make_shared<varsfm::DensifyCommandOptions>();
+  auto options = std::make_shared<varsfm::DensifyOptions>();
   CLI::App* cmd = app->add_subcommand(
       "densify", "dense point cloud by match propagation and/or PatchMatch depth maps");
   cmd->add_option("--workspace", options->workspace, "workspace database (optional)");
@@ -449,8 +449,8 @@ void AddMeshCommand(CLI::App* app) {
 
 // texture: mesh + sparse model + photos -> textured OBJ (atlas PNG) and binary glTF.
 void AddTextureCommand(CLI::App* app) {
-  auto options = std::make_shared<varsfm::TextureCommandOptions>();
-  varsfm::TextureOptions& t = options->texture;
+  auto options = std::make_shared<varsfm::TextureOptions>();
+  varsfm::TextureMappingOptions& t = options->texture;
   CLI::App* cmd = app->add_subcommand("texture", "texture a mesh from the registered photos");
   cmd->add_option("--mesh", options->mesh, "mesh PLY (mesh.ply)")->required();
   cmd->add_option("--sparse", options->sparse,

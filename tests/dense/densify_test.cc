@@ -33,7 +33,8 @@ TEST(Densify, RenderedSceneLiesOnTheTrueSurfaces) {
   ASSERT_GT(rec.points3D().size(), 100u);
 
   DensifyStats stats;
-  DensifyOptions propagation;  // this test is about match propagation (the paper's method)
+  DenseReconstructionOptions
+      propagation;  // this test is about match propagation (the paper's method)
   propagation.method = DenseMethod::kPropagation;
   const PointCloud cloud = Densify(
       rec, [&](image_t id) { return scene.images[id - 1]; }, propagation, &stats);

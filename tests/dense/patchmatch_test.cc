@@ -93,8 +93,8 @@ TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
   EXPECT_LT(Median(normal_errors), 15.0);
 }
 
-DensifyOptions PatchMatchOptionsFor(DenseMethod method) {
-  DensifyOptions options;
+DenseReconstructionOptions PatchMatchOptionsFor(DenseMethod method) {
+  DenseReconstructionOptions options;
   options.method = method;
   options.mvs.max_image_size = 240;
   options.mvs.patchmatch.num_iterations = 3;
@@ -143,7 +143,7 @@ TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
   const RenderedScene scene = SmallScene();
   const Reconstruction rec = SparseModel(scene, SceneQuads());
   const auto run = [&](int threads) {
-    DensifyOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+    DenseReconstructionOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
     options.mvs.max_image_size = 160;
     options.mvs.patchmatch.num_iterations = 2;
     options.num_threads = threads;
@@ -186,7 +186,7 @@ TEST(MultiViewStereo, FillKeepsPropagationAndAddsWherePropagationStops) {
 }
 
 TEST(MultiViewStereo, OptionsAreChecked) {
-  DensifyOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+  DenseReconstructionOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
   EXPECT_NO_THROW(options.Check());
   options.mvs.max_image_size = 8;
   EXPECT_THROW(options.Check(), OptionError);

@@ -35,10 +35,10 @@ const RenderedSurface& Scene() {
     s->scene = RenderSyntheticScene(options);
     const Reconstruction rec = SparseModelFromRenderedScene(s->scene);
     const auto load = [&](image_t id) { return s->scene.images[id - 1]; };
-    DensifyOptions propagation;
+    DenseReconstructionOptions propagation;
     propagation.method = DenseMethod::kPropagation;
     s->propagation = Densify(rec, load, propagation);
-    DensifyOptions patchmatch;
+    DenseReconstructionOptions patchmatch;
     patchmatch.method = DenseMethod::kPatchMatch;
     DenseVisibility visibility;
     s->patchmatch = Densify(rec, load, patchmatch, nullptr, &visibility);

@@ -15,7 +15,7 @@ using testing::TempDir;
 
 // Runs densify on `model` and returns the error message ("" when it did not throw).
 std::string DensifyError(const std::filesystem::path& model, const TempDir& tmp) {
-  DensifyCommandOptions options;
+  DensifyOptions options;
   options.sparse = model;
   options.image_dir = tmp.path();
   options.output = tmp.path() / "out";

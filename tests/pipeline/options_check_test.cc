@@ -89,7 +89,7 @@ TEST(OptionsCheck, Map) {
 }
 
 TEST(OptionsCheck, Densify) {
-  ExpectEachRejected<DensifyCommandOptions>(
+  ExpectEachRejected<DensifyOptions>(
       {}, {{"--partners", [](auto& o) { o.dense.max_partners = 0; }},
            {"--partners", [](auto& o) { o.dense.max_partners = 11; }},
            {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kNan; }},
@@ -113,7 +113,7 @@ TEST(OptionsCheck, Mesh) {
 }
 
 TEST(OptionsCheck, Texture) {
-  ExpectEachRejected<TextureCommandOptions>(
+  ExpectEachRejected<TextureOptions>(
       {},
       {{"--smoothness", [](auto& o) { o.texture.selection.smoothness = kNan; }},
        {"--depth-tolerance", [](auto& o) { o.texture.selection.observation.depth_tolerance = 2; }},

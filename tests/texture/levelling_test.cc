@@ -49,7 +49,7 @@ TEST(Levelling, RemovesTheSeamBetweenTwoExposures) {
     EXPECT_NEAR(selection.gains[0][k] * selection.gains[1][k], 1.0, 0.02) << k;
   }
 
-  TextureOptions off;
+  TextureMappingOptions off;
   off.selection.exposure.enabled = false;
   off.levelling.enabled = false;
   off.seams.enabled = false;
@@ -59,7 +59,7 @@ TEST(Levelling, RemovesTheSeamBetweenTwoExposures) {
 
   // Levelling alone (additive, per vertex, fading a few edges from the seam) closes most of a
   // multiplicative gap (measured: 64 -> 19) ...
-  TextureOptions levelling_only;
+  TextureMappingOptions levelling_only;
   levelling_only.selection.exposure.enabled = false;
   levelling_only.levelling.max_seam_difference = 1000;  // the gap is all exposure here
   levelling_only.seams.enabled = false;
@@ -69,7 +69,7 @@ TEST(Levelling, RemovesTheSeamBetweenTwoExposures) {
   EXPECT_LT(LargestStep(TextureMesh(scene.mesh, scene.views, load)), 6);
   // The local blending alone (seam_blending.h) also meets halfway at the seam, spreading the
   // gap over its strip in steps of a few grey levels (measured: 64 -> 6 with 6 texels a side).
-  TextureOptions blending_only = off;
+  TextureMappingOptions blending_only = off;
   blending_only.seams.enabled = true;
   EXPECT_LT(LargestStep(TextureMesh(scene.mesh, scene.views, load, blending_only)), unlevelled / 4);
 }

@@ -14,7 +14,7 @@ namespace {
 struct Textured {
   RenderedScene scene;
   TexturedMesh mesh;
-  TextureStats stats;
+  TextureMappingStats stats;
 };
 
 // Textures the scene mesh from the first `num_used` of the rendered images.
@@ -92,8 +92,8 @@ TEST(Texture, UnseenFacesKeepTheirVertexColour) {
   mesh.colors.assign(mesh.vertices.size(), Eigen::Matrix<uint8_t, 3, 1>(200, 40, 10));  // RGB
   // The only view looks away from the scene, so no face is textured from a photo.
   const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
-  TextureStats stats;
-  TextureOptions options;
+  TextureMappingStats stats;
+  TextureMappingOptions options;
   options.min_mean_coverage = 0;  // the coverage check would stop it (next test)
   const TexturedMesh textured = TextureMesh(
       mesh, {away}, [&](size_t) { return scene.images[0]; }, options, &stats);
@@ -111,7 +111,7 @@ TEST(Texture, AMeshThePhotosDoNotShowIsAnError) {
   const TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
   const auto load = [&](size_t v) { return scene.images[v]; };
   // From the scene's own cameras the mesh fills much of each photo.
-  TextureStats stats;
+  TextureMappingStats stats;
   TextureMesh(mesh, {{scene.cameras[0], scene.poses[0]}, {scene.cameras[1], scene.poses[1]}}, load,
               {}, &stats);
   EXPECT_GT(stats.mean_coverage, 0.2);

@@ -99,7 +99,7 @@ bool TriangulateMatch(const Matrix34d& P1, const Matrix34d& P2, const Eigen::Vec
 // Propagation and triangulation of one pair (views a, b), seeded by their shared sparse points.
 std::vector<PairPoint> DensifyPair(const Reconstruction& rec, const DenseView& a,
                                    const DenseView& b, const std::vector<point3D_t>& shared,
-                                   const DensifyOptions& options, size_t* num_matches) {
+                                   const DenseReconstructionOptions& options, size_t* num_matches) {
   std::vector<SeedMatch> seeds;
   const auto in_image = [](const UndistortedView& v, const Eigen::Vector3d& h, Eigen::Vector2d* x) {
     if (h.z() <= 0) return false;
@@ -202,8 +202,8 @@ struct Fusion {
 
 }  // namespace
 
-std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& rec,
-                                                          const DensifyOptions& options) {
+std::vector<std::pair<image_t, image_t>> SelectDensePairs(
+    const Reconstruction& rec, const DenseReconstructionOptions& options) {
   const auto shared = SharedPoints(rec);
   // Candidate partners per image: (shared count, partner).
   std::map<image_t, std::vector<std::pair<size_t, image_t>>> candidates;
@@ -235,7 +235,7 @@ namespace {
 
 PointCloud DensifyByPropagation(const Reconstruction& rec,
                                 const std::function<cv::Mat(image_t)>& load_image,
-                                const DensifyOptions& options, DensifyStats& st,
+                                const DenseReconstructionOptions& options, DensifyStats& st,
                                 DenseVisibility* visibility) {
   const auto pairs = SelectDensePairs(rec, options);
   if (pairs.empty())
@@ -400,7 +400,7 @@ std::string_view DenseMethodName(DenseMethod method) {
 }
 
 PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
-                   const DensifyOptions& options, DensifyStats* stats,
+                   const DenseReconstructionOptions& options, DensifyStats* stats,
                    DenseVisibility* visibility) {
   if (rec.NumRegisteredImages() < 2)
     Fail("densify: the sparse model has {} registered images; at least 2 are needed",
@@ -435,7 +435,7 @@ PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_
   return cloud;
 }
 
-void DensifyOptions::Check() const {
+void DenseReconstructionOptions::Check() const {
   mvs.Check();  // also for propagation: a bad value is refused, not silently ignored
   CheckInRange("--partners", max_partners, 1, 10);
   CheckAtLeast("min_shared_points", min_shared_points, 1);

@@ -29,7 +29,7 @@ enum class DenseMethod {
   kSeededFill,   // kFill with PatchMatch started from propagation's points
 };
 
-struct DensifyOptions {
+struct DenseReconstructionOptions {
   // PatchMatch by default: on every shared set it renders the held-out views better than
   // propagation (bench/results/2026-12-02-dense-default.md); propagation stays selectable.
   DenseMethod method = DenseMethod::kPatchMatch;
@@ -70,8 +70,8 @@ struct DensifyStats {
 };
 
 // The image pairs densify would match (image ids, first < second, sorted).
-std::vector<std::pair<image_t, image_t>> SelectDensePairs(const Reconstruction& reconstruction,
-                                                          const DensifyOptions& options);
+std::vector<std::pair<image_t, image_t>> SelectDensePairs(
+    const Reconstruction& reconstruction, const DenseReconstructionOptions& options);
 
 // "propagation", "patchmatch", "seeded", "fill", "seeded-fill".
 std::string_view DenseMethodName(DenseMethod method);
@@ -81,7 +81,7 @@ std::string_view DenseMethodName(DenseMethod method);
 // fewer than two registered images or no usable pair.
 PointCloud Densify(const Reconstruction& reconstruction,
                    const std::function<cv::Mat(image_t)>& load_image,
-                   const DensifyOptions& options = {}, DensifyStats* stats = nullptr,
+                   const DenseReconstructionOptions& options = {}, DensifyStats* stats = nullptr,
                    DenseVisibility* visibility = nullptr);
 
 }  // namespace varsfm

@@ -51,12 +51,12 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
 
 }  // namespace
 
-void DensifyCommandOptions::Check() const {
+void DensifyOptions::Check() const {
   dense.Check();
   CheckHoldout(holdout);
 }
 
-DensifySummary RunDensify(const DensifyCommandOptions& options, OptionsCheck check) {
+DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))

@@ -11,14 +11,14 @@
 
 namespace varsfm {
 
-struct DensifyCommandOptions {
+struct DensifyOptions {
   // Optional: when given it must exist; densify itself needs only the sparse model and photos
   // (the model's 3D points are the propagation seeds).
   std::filesystem::path workspace;
   std::filesystem::path sparse;     // COLMAP model folder, or its parent: model 0
   std::filesystem::path image_dir;  // the photos, by the model's image names
   std::filesystem::path output;     // OUT/dense.ply is written
-  DensifyOptions dense;
+  DenseReconstructionOptions dense;
   int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
@@ -36,7 +36,7 @@ struct DensifySummary {
 
 // Throws varsfm::Error (one line) for a missing/unreadable model, a model with fewer than two
 // registered images, a missing photo or one whose size differs from its camera.
-DensifySummary RunDensify(const DensifyCommandOptions& options,
+DensifySummary RunDensify(const DensifyOptions& options,
                           OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -116,7 +116,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
     WriteJsonAtomically(summary_path, summary);
   };
   if (runs(RunStage::kDense)) {
-    DensifyCommandOptions densify;
+    DensifyOptions densify;
     densify.sparse = options.output / "sparse" / "0";
     densify.image_dir = image_dir;
     densify.output = options.output;
@@ -137,7 +137,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
     add_seconds("mesh", result.seconds_mesh);
   }
   if (runs(RunStage::kTexture)) {
-    TextureCommandOptions texture;
+    TextureOptions texture;
     texture.mesh = options.output / "mesh.ply";
     texture.sparse = options.output / "sparse" / "0";
     texture.image_dir = image_dir;

@@ -34,9 +34,9 @@ struct RunOptions {
   MatchOptions match;                   // workspace / strategy filled in
   MapOptions map;                       // workspace / output / image_dir filled in
   RunStage until = RunStage::kTexture;  // the last stage run
-  DensifyOptions dense;
+  DenseReconstructionOptions dense;
   SurfaceOptions surface;
-  TextureOptions texture;
+  TextureMappingOptions texture;
   // Every N-th registered image by name is kept out of densify and texture, and the textured
   // model is scored on those views at the end (scene/holdout.h); 0: none.
   int holdout = 0;

@@ -13,12 +13,12 @@
 
 namespace varsfm {
 
-void TextureCommandOptions::Check() const {
+void TextureOptions::Check() const {
   texture.Check();
   CheckHoldout(holdout);
 }
 
-TextureSummary RunTexture(const TextureCommandOptions& options, OptionsCheck check) {
+TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
   if (!std::filesystem::is_directory(options.sparse))
@@ -38,7 +38,7 @@ TextureSummary RunTexture(const TextureCommandOptions& options, OptionsCheck che
   WriteTexturedObj(options.output / "textured", textured, "model");
   WriteGlb(options.output / "model.glb", textured);
   result.seconds = timer.Seconds();
-  const TextureStats& s = result.stats;
+  const TextureMappingStats& s = result.stats;
   info(
       "texture: {} of {} faces textured, the mesh covers {:.1f} % of the photos, {} views of "
       "faces rejected as inconsistent, {} charts, {} atlas page(s) ({:.1f} Mpx, {:.0f} % inside faces) in {:.1f} s "

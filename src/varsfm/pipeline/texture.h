@@ -9,12 +9,12 @@
 
 namespace varsfm {
 
-struct TextureCommandOptions {
+struct TextureOptions {
   std::filesystem::path mesh;       // PLY triangle mesh
   std::filesystem::path sparse;     // COLMAP model folder (text or binary)
   std::filesystem::path image_dir;  // the photos, by the model's image names
   std::filesystem::path output;     // OUT: OUT/textured/ and OUT/model.glb are written
-  TextureOptions texture;
+  TextureMappingOptions texture;
   int holdout = 0;  // every N-th registered image by name is left out (scene/holdout.h); 0: none
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
@@ -23,13 +23,13 @@ struct TextureCommandOptions {
 };
 
 struct TextureSummary {
-  TextureStats stats;
+  TextureMappingStats stats;
   double seconds = 0;
 };
 
 // Throws varsfm::Error (one line) for a missing/empty mesh, a missing model or one without
 // registered images, or a missing photo / one whose size differs from its camera.
-TextureSummary RunTexture(const TextureCommandOptions& options,
+TextureSummary RunTexture(const TextureOptions& options,
                           OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -17,8 +17,8 @@ std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
 }
 
 TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,
-                              const std::filesystem::path& image_dir, const TextureOptions& options,
-                              TextureStats* stats) {
+                              const std::filesystem::path& image_dir,
+                              const TextureMappingOptions& options, TextureMappingStats* stats) {
   std::vector<image_t> ids;
   const std::vector<TextureView> views = RegisteredViews(reconstruction, &ids);
   if (views.empty()) Fail("texture: the sparse model has no registered images to texture from");

@@ -21,6 +21,7 @@ std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
 // missing / wrongly sized photo.
 TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& reconstruction,
                               const std::filesystem::path& image_dir,
-                              const TextureOptions& options = {}, TextureStats* stats = nullptr);
+                              const TextureMappingOptions& options = {},
+                              TextureMappingStats* stats = nullptr);
 
 }  // namespace varsfm

@@ -149,11 +149,11 @@ void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement&
 
 TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
                          const std::function<cv::Mat(size_t)>& load_image,
-                         const TextureOptions& options, TextureStats* stats) {
+                         const TextureMappingOptions& options, TextureMappingStats* stats) {
   if (mesh.faces.empty() || mesh.vertices.empty()) Fail("texture: the mesh has no faces");
   if (views.empty()) Fail("texture: no registered images to texture from");
-  TextureStats local;
-  TextureStats& st = stats ? *stats : local;
+  TextureMappingStats local;
+  TextureMappingStats& st = stats ? *stats : local;
   st = {};
   st.num_faces = mesh.faces.size();
   Timer timer;
@@ -252,7 +252,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   return out;
 }
 
-void TextureOptions::Check() const {
+void TextureMappingOptions::Check() const {
   selection.Check();
   levelling.Check();
   seams.Check();

@@ -20,7 +20,7 @@
 
 namespace varsfm {
 
-struct TextureOptions {
+struct TextureMappingOptions {
   ViewSelectionOptions selection;
   ColourLevellingOptions levelling;
   SeamBlendingOptions seams;
@@ -44,7 +44,7 @@ struct TextureOptions {
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
-struct TextureStats {
+struct TextureMappingStats {
   size_t num_faces = 0;
   size_t num_textured_faces = 0;
   size_t num_rejected_observations = 0;  // (view, face) pairs failing photo-consistency
@@ -64,6 +64,7 @@ struct TextureStats {
 // photo whose size differs from its camera.
 TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
                          const std::function<cv::Mat(size_t)>& load_image,
-                         const TextureOptions& options = {}, TextureStats* stats = nullptr);
+                         const TextureMappingOptions& options = {},
+                         TextureMappingStats* stats = nullptr);
 
 }  // namespace varsfm
