@@ -103,13 +103,17 @@ TEST(OptionsCheck, Densify) {
 }
 
 TEST(OptionsCheck, Mesh) {
-  ExpectEachRejected<MeshOptions>({},
-                                  {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
-                                   {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
-                                   {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
-                                   {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
-                                   {"--max-depth", [](auto& o) { o.surface.max_depth = 17; }},
-                                   {"--threads", [](auto& o) { o.surface.num_threads = 0; }}});
+  ExpectEachRejected<MeshOptions>(
+      {}, {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
+           {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
+           {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
+           {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
+           {"--max-depth", [](auto& o) { o.surface.max_depth = 17; }},
+           {"--threads", [](auto& o) { o.surface.num_threads = 0; }},
+           {"--merge-spacing", [](auto& o) { o.surface.delaunay.merge_spacing = 0; }},
+           {"--sigma", [](auto& o) { o.surface.delaunay.sigma = kNan; }},
+           {"--min-component", [](auto& o) { o.surface.delaunay.min_component_fraction = 2; }},
+           {"--smoothing", [](auto& o) { o.surface.delaunay.smoothing_iterations = -1; }}});
 }
 
 TEST(OptionsCheck, Texture) {

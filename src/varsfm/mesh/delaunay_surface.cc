@@ -210,7 +210,6 @@ void DelaunaySurfaceOptions::Check() const {
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
                                         const DelaunaySurfaceOptions& options,
                                         DelaunaySurfaceStats* stats) {
-  options.Check();
   if (!cloud.HasVisibility())
     Fail(
         "the Delaunay surface needs the points' visibility (the cameras that saw each point); "

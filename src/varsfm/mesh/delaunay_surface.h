@@ -58,7 +58,8 @@ struct DelaunaySurfaceStats {
   double seconds_tetrahedra = 0, seconds_rays = 0, seconds_cut = 0;
 };
 
-// `spacing`: the cloud's average point spacing (AverageNearestSpacing). Throws varsfm::Error when
+// `spacing`: the cloud's average point spacing (AverageNearestSpacing); `options` must have
+// passed Check() (SurfaceOptions::Check, where the mesh stage starts). Throws varsfm::Error when
 // the cloud has no visibility, too few points, or the cut leaves no surface. Deterministic for
 // any thread count (the rays' weights are summed in integers).
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,

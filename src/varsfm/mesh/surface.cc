@@ -99,7 +99,6 @@ SurfaceMethod ParseSurfaceMethod(const std::string& name) {
 
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats) {
-  options.Check();
   if (cloud.points.size() < 10) {
     Fail("{} points are too few for a surface (need at least 10)", cloud.points.size());
   }

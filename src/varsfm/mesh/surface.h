@@ -68,7 +68,8 @@ struct SurfaceStats {
   MeshQuality quality;  // of the final mesh against the input points
 };
 
-// Throws varsfm::Error when the cloud has too few points, lacks normals (Poisson), the
+// `options` must have passed Check() (the mesh stage checks them once, where it starts). Throws
+// varsfm::Error when the cloud has too few points, lacks normals (Poisson), the
 // reconstruction fails, or the mesh fails the check. Vertex colours come from the nearest input
 // point when it has colours.
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
