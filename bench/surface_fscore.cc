@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
       variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4);
       surface.method = varsfm::SurfaceMethod::kDelaunay;
       surface.delaunay.max_edge_factor = factor;
+      surface.Check();  // ReconstructSurface expects checked options
     }
     for (const auto& [name, surface] : variants) {
       timer.Restart();
