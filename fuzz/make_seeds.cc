@@ -20,9 +20,9 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
 #include "varsfm/io/mesh_ply.h"
+#include "varsfm/io/obj_io.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/matching/vocabulary_tree_io.h"
-#include "varsfm/texture/obj_io.h"
 
 namespace {
 

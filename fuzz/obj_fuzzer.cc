@@ -5,7 +5,7 @@
 
 #include "fuzz_support.h"
 #include "varsfm/image/image_file.h"
-#include "varsfm/texture/obj_io.h"
+#include "varsfm/io/obj_io.h"
 #include "varsfm/util/error.h"
 
 namespace {

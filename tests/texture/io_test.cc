@@ -11,9 +11,9 @@
 #include "synthetic_mesh.h"
 #include "varsfm/image/png_codec.h"
 #include "varsfm/io/mesh_ply.h"
+#include "varsfm/io/obj_io.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/texture/model_texture.h"
-#include "varsfm/texture/obj_io.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {

@@ -4,9 +4,9 @@
 
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/mesh_ply.h"
+#include "varsfm/io/obj_io.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
-#include "varsfm/texture/obj_io.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"

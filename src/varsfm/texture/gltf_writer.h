@@ -7,7 +7,7 @@
 // (vision y-down to glTF y-up).
 #include <filesystem>
 
-#include "varsfm/texture/textured_mesh.h"
+#include "varsfm/scene/textured_mesh.h"
 
 namespace varsfm {
 

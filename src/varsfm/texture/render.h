@@ -8,7 +8,7 @@
 
 #include "varsfm/camera/camera.h"
 #include "varsfm/geometry/rigid3.h"
-#include "varsfm/texture/textured_mesh.h"
+#include "varsfm/scene/textured_mesh.h"
 
 namespace varsfm {
 

@@ -17,7 +17,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "varsfm/texture/textured_mesh.h"
+#include "varsfm/scene/textured_mesh.h"
 
 namespace varsfm {
 

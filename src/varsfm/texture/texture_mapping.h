@@ -12,10 +12,10 @@
 
 #include <opencv2/core.hpp>
 
+#include "varsfm/scene/textured_mesh.h"
 #include "varsfm/scene/triangle_mesh.h"
 #include "varsfm/texture/colour_levelling.h"
 #include "varsfm/texture/seam_blending.h"
-#include "varsfm/texture/textured_mesh.h"
 #include "varsfm/texture/view_selection.h"
 
 namespace varsfm {

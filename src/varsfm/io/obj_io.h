@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "varsfm/texture/textured_mesh.h"
+#include "varsfm/scene/textured_mesh.h"
 
 namespace varsfm {
 

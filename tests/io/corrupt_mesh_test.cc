@@ -7,7 +7,7 @@
 
 #include "support/test_data.h"
 #include "varsfm/io/mesh_ply.h"
-#include "varsfm/texture/obj_io.h"
+#include "varsfm/io/obj_io.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {

@@ -1,4 +1,4 @@
-#include "varsfm/texture/obj_io.h"
+#include "varsfm/io/obj_io.h"
 
 #include <fstream>
 #include <map>
