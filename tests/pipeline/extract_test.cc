@@ -1,5 +1,6 @@
 // End to end through the command-line tool: `varsfm extract` on photos, on a video, and on bad
 // input, checked in the workspace database.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -252,6 +253,51 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   ASSERT_EQ(RunCommand(Extract(workspace, input + " --threads 1"), &out), 0) << out;
   EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << out;
   EXPECT_EQ(out.find("other settings"), std::string::npos) << out;
+}
+
+// The extractor's version is part of the recorded settings: features recorded with another
+// version, or with none (an extractor from before versions were recorded), are extracted again,
+// and the next run finds them current.
+TEST(ExtractCommand, FeaturesOfAnotherExtractorVersionAreExtractedAgain) {
+  TempDir dir("extract_version");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images);
+  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  const fs::path workspace = dir.path() / "ws.db";
+  const std::string extract = Extract(workspace, "--images " + Quote(images));
+  std::string out;
+  ASSERT_EQ(RunCommand(extract, &out), 0) << out;
+  const FeatureKeypoints first = Database(workspace).ReadKeypoints(1);
+  const std::string older_records[] = {
+      "json_remove(settings, '$.extractor_version')",
+      fmt::format("json_set(settings, '$.extractor_version', {})", kSiftExtractorVersion - 1)};
+  for (const std::string& older : older_records) {
+    {
+      sqlite3* db = nullptr;
+      ASSERT_EQ(sqlite3_open(workspace.c_str(), &db), SQLITE_OK);
+      // The record of the current extractor (an earlier pass of this loop left its own).
+      const std::string sql = fmt::format(
+          "UPDATE varsfm_settings SET settings = {} WHERE stage = 'extract' AND "
+          "json_extract(settings, '$.extractor_version') = {}",
+          older, kSiftExtractorVersion);
+      EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sql;
+      EXPECT_EQ(sqlite3_changes(db), 1) << sql;
+      sqlite3_close(db);
+    }
+    ASSERT_EQ(RunCommand(extract, &out), 0) << out;
+    EXPECT_NE(out.find("3 images were extracted with other settings"), std::string::npos)
+        << older << "\n"
+        << out;
+    // These images are below max_image_size, so both versions extract the same features.
+    const FeatureKeypoints again = Database(workspace).ReadKeypoints(1);
+    EXPECT_TRUE(std::equal(again.begin(), again.end(), first.begin(), first.end(),
+                           [](const FeatureKeypoint& a, const FeatureKeypoint& b) {
+                             return a.x == b.x && a.y == b.y && a.a11 == b.a11 && a.a21 == b.a21;
+                           }))
+        << older;
+    ASSERT_EQ(RunCommand(extract, &out), 0) << out;
+    EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << older << out;
+  }
 }
 
 // A video panning across a textured scene, with blurred frames at `blurred`.

@@ -6,6 +6,13 @@
 
 namespace varsfm {
 
+// The version of ExtractSift's output: bump whenever the extractor's output changes for the same
+// options, so that a workspace's features from an older extractor are extracted again (the
+// workspace records it with the options, pipeline/extract.cc). 2: an image larger than
+// max_image_size is extracted from octave 0 at max_image_size (sift.cc); 1, or no version
+// recorded: from an upsampled octave -1 at max_image_size.
+inline constexpr int kSiftExtractorVersion = 2;
+
 struct SiftOptions {
   // Keep at most this many feature locations, the strongest by detector response, with all
   // their orientations (as COLMAP's max_num_features).

@@ -102,9 +102,12 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
 }
 
 // The settings that change an image's features, in a canonical text (sorted keys): a
-// re-extraction with other ones extracts again. Thread counts are left out on purpose.
+// re-extraction with other ones extracts again. Thread counts are left out on purpose. The
+// extractor's version is one of them: features of an older extractor (another version, or none
+// recorded) are extracted again.
 std::string FeatureSettings(const SiftOptions& sift) {
   nlohmann::json settings;
+  settings["extractor_version"] = kSiftExtractorVersion;
   settings["max_features"] = sift.max_features;
   settings["max_image_size"] = sift.max_image_size;
   settings["contrast_threshold"] = sift.contrast_threshold;
