@@ -27,64 +27,52 @@ void Gather(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vec
 
 }  // namespace
 
-void FundamentalEstimator::MinimalSolve(const std::vector<int>& sample,
-                                        std::vector<Model>* models) const {
-  std::vector<Eigen::Vector2d> y1, y2;
-  Gather(x1, x2, sample, &y1, &y2);
-  Fundamental7pt(y1, y2, models);
+template <TwoViewModel kModel>
+void TwoViewEstimator<kModel>::MinimalSolve(const std::vector<int>& sample,
+                                            std::vector<Model>* models) const {
+  if constexpr (kModel == TwoViewModel::kHomography) {
+    NonMinimalSolve(sample, Model{}, models);  // the four-point DLT is the linear solver
+  } else {
+    std::vector<Eigen::Vector2d> y1, y2;
+    Gather(x1, x2, sample, &y1, &y2);
+    if constexpr (kModel == TwoViewModel::kFundamental) {
+      Fundamental7pt(y1, y2, models);
+    } else {
+      Essential5pt(y1, y2, models);
+    }
+  }
 }
 
-void FundamentalEstimator::NonMinimalSolve(const std::vector<int>& indices,
-                                           const Model& /*initial*/,
-                                           std::vector<Model>* models) const {
-  std::vector<Eigen::Vector2d> y1, y2;
-  Gather(x1, x2, indices, &y1, &y2);
-  Eigen::Matrix3d F;
-  if (Fundamental8pt(y1, y2, &F)) models->push_back(F);
-}
-
-double FundamentalEstimator::SquaredResidual(const Model& F, size_t i) const {
-  return SampsonErrorSquared(F, x1[i], x2[i]);
-}
-
-void HomographyEstimator::MinimalSolve(const std::vector<int>& sample,
-                                       std::vector<Model>* models) const {
-  NonMinimalSolve(sample, Model{}, models);
-}
-
-void HomographyEstimator::NonMinimalSolve(const std::vector<int>& indices, const Model& /*initial*/,
-                                          std::vector<Model>* models) const {
+template <TwoViewModel kModel>
+void TwoViewEstimator<kModel>::NonMinimalSolve(const std::vector<int>& indices,
+                                               const Model& /*initial*/,
+                                               std::vector<Model>* models) const {
+  // E's linear solver is the eight-point one; LO is skipped below eight correspondences.
+  if (kModel == TwoViewModel::kEssential && indices.size() < 8) return;
   std::vector<Eigen::Vector2d> y1, y2;
   Gather(x1, x2, indices, &y1, &y2);
-  Eigen::Matrix3d H;
-  if (HomographyDLT(y1, y2, &H)) models->push_back(H);
+  Eigen::Matrix3d M;
+  if constexpr (kModel == TwoViewModel::kHomography) {
+    if (HomographyDLT(y1, y2, &M)) models->push_back(M);
+  } else if (Fundamental8pt(y1, y2, &M)) {
+    models->push_back(kModel == TwoViewModel::kEssential ? ProjectToEssential(M) : M);
+  }
 }
 
-double HomographyEstimator::SquaredResidual(const Model& H, size_t i) const {
-  const Eigen::Vector3d y = H * x1[i].homogeneous();
-  if (y.z() == 0) return std::numeric_limits<double>::infinity();
-  return (y.hnormalized() - x2[i]).squaredNorm();
+template <TwoViewModel kModel>
+double TwoViewEstimator<kModel>::SquaredResidual(const Model& model, size_t i) const {
+  if constexpr (kModel == TwoViewModel::kHomography) {
+    const Eigen::Vector3d y = model * x1[i].homogeneous();
+    if (y.z() == 0) return std::numeric_limits<double>::infinity();
+    return (y.hnormalized() - x2[i]).squaredNorm();
+  } else {
+    return SampsonErrorSquared(model, x1[i], x2[i]);
+  }
 }
 
-void EssentialEstimator::MinimalSolve(const std::vector<int>& sample,
-                                      std::vector<Model>* models) const {
-  std::vector<Eigen::Vector2d> y1, y2;
-  Gather(x1, x2, sample, &y1, &y2);
-  Essential5pt(y1, y2, models);
-}
-
-void EssentialEstimator::NonMinimalSolve(const std::vector<int>& indices, const Model& /*initial*/,
-                                         std::vector<Model>* models) const {
-  if (indices.size() < 8) return;  // the linear solver needs eight; LO is skipped below that
-  std::vector<Eigen::Vector2d> y1, y2;
-  Gather(x1, x2, indices, &y1, &y2);
-  Eigen::Matrix3d F;
-  if (Fundamental8pt(y1, y2, &F)) models->push_back(ProjectToEssential(F));
-}
-
-double EssentialEstimator::SquaredResidual(const Model& E, size_t i) const {
-  return SampsonErrorSquared(E, x1[i], x2[i]);
-}
+template struct TwoViewEstimator<TwoViewModel::kFundamental>;
+template struct TwoViewEstimator<TwoViewModel::kHomography>;
+template struct TwoViewEstimator<TwoViewModel::kEssential>;
 
 RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
                                                         const std::vector<Eigen::Vector2d>& x2,

@@ -15,42 +15,29 @@
 
 namespace varsfm {
 
-// Estimator adaptors for Ransac<> (they keep references to the data).
-struct FundamentalEstimator {
+enum class TwoViewModel { kFundamental, kHomography, kEssential };
+
+// Estimator adaptor for Ransac<> of one two-view model (the header says which solvers and
+// residual each uses). It keeps references to the data: x1[i] <-> x2[i], pixels for F and H,
+// normalised coordinates for E. Defined for the three models in two_view_estimators.cc.
+template <TwoViewModel kModel>
+struct TwoViewEstimator {
   using Model = Eigen::Matrix3d;
-  static constexpr int kMinSampleSize = 7;
+  static constexpr int kMinSampleSize = kModel == TwoViewModel::kFundamental  ? 7
+                                        : kModel == TwoViewModel::kHomography ? 4
+                                                                              : 5;
   const std::vector<Eigen::Vector2d>& x1;
   const std::vector<Eigen::Vector2d>& x2;
   size_t NumData() const { return x1.size(); }
   void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
   void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
                        std::vector<Model>* models) const;
-  double SquaredResidual(const Model& F, size_t i) const;
+  double SquaredResidual(const Model& model, size_t i) const;
 };
 
-struct HomographyEstimator {
-  using Model = Eigen::Matrix3d;
-  static constexpr int kMinSampleSize = 4;
-  const std::vector<Eigen::Vector2d>& x1;
-  const std::vector<Eigen::Vector2d>& x2;
-  size_t NumData() const { return x1.size(); }
-  void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
-                       std::vector<Model>* models) const;
-  double SquaredResidual(const Model& H, size_t i) const;
-};
-
-struct EssentialEstimator {
-  using Model = Eigen::Matrix3d;
-  static constexpr int kMinSampleSize = 5;
-  const std::vector<Eigen::Vector2d>& x1;  // normalised coordinates
-  const std::vector<Eigen::Vector2d>& x2;
-  size_t NumData() const { return x1.size(); }
-  void MinimalSolve(const std::vector<int>& sample, std::vector<Model>* models) const;
-  void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
-                       std::vector<Model>* models) const;
-  double SquaredResidual(const Model& E, size_t i) const;
-};
+using FundamentalEstimator = TwoViewEstimator<TwoViewModel::kFundamental>;
+using HomographyEstimator = TwoViewEstimator<TwoViewModel::kHomography>;
+using EssentialEstimator = TwoViewEstimator<TwoViewModel::kEssential>;
 
 RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
                                                         const std::vector<Eigen::Vector2d>& x2,
