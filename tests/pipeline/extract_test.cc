@@ -27,14 +27,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using testing::RunCommand;
+using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
 
-std::string Quote(const fs::path& p) { return "'" + p.string() + "'"; }
-
 std::string Extract(const fs::path& workspace, const std::string& input_args) {
-  return fmt::format("{} extract --workspace {} {}", Quote(VarsfmBinary()), Quote(workspace),
-                     input_args);
+  return fmt::format("{} extract --workspace {} {}", ShellQuote(VarsfmBinary()),
+                     ShellQuote(workspace), input_args);
 }
 
 std::string FileBytes(const fs::path& path) {
@@ -55,7 +54,7 @@ TEST(ExtractCommand, KermitEveryImageGetsCameraAndRootSiftFeatures) {
   TempDir dir("extract_kermit");
   const fs::path workspace = dir.path() / "ws.db";
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(kermit)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(kermit)), &out), 0) << out;
 
   Database db(workspace);
   const std::vector<DbImage> images = db.ReadAllImages();
@@ -110,7 +109,7 @@ TEST(ExtractCommand, RerunSkipsExtractedImagesAndAddsNewOnes) {
   const fs::path workspace = dir.path() / "ws.db";
   CopyKermit(kermit, images, 0, 2);
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images)), &out), 0) << out;
   FeatureKeypoints first;
   {
     Database db(workspace);
@@ -118,11 +117,12 @@ TEST(ExtractCommand, RerunSkipsExtractedImagesAndAddsNewOnes) {
     first = db.ReadKeypoints(1);
   }
   // Nothing new: nothing written.
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images)), &out), 0) << out;
   EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << out;
 
   CopyKermit(kermit, images, 3, 4);
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images) + " --threads 1"), &out), 0)
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images) + " --threads 1"), &out),
+            0)
       << out;
   EXPECT_NE(out.find("3 of 5 images already extracted"), std::string::npos) << out;
   Database db(workspace);
@@ -145,7 +145,8 @@ TEST(ExtractCommand, UnreadableImagesAreSkippedWithAWarning) {
   std::ofstream(images / "truncated.jpg", std::ios::binary) << jpeg.substr(0, jpeg.size() / 2);
   WriteImage(images / "tiny.png", cv::Mat(20, 20, CV_8UC1, cv::Scalar(3)));
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(dir.path() / "ws.db", "--images " + Quote(images)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "ws.db", "--images " + ShellQuote(images)), &out), 0)
+      << out;
   for (const char* name : {"text.jpg", "truncated.jpg", "tiny.png"}) {
     EXPECT_NE(out.find(name), std::string::npos) << name << " not named in:\n" << out;
   }
@@ -175,7 +176,7 @@ TEST(ExtractCommand, LinksAreOnePhotoAndBrokenLinksAndLoopsAreSkipped) {
   fs::create_symlink(".", images / "self");
   const fs::path workspace = dir.path() / "ws.db";
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images)), &out), 0) << out;
   EXPECT_NE(out.find("skipping link.png: a link to 1.png"), std::string::npos) << out;
   for (const char* name : {"broken.png", "loop1.png", "loop2.png", "self"}) {
     EXPECT_NE(out.find(std::string("skipping ") + name), std::string::npos) << name << "\n" << out;
@@ -195,7 +196,7 @@ TEST(ExtractCommand, AFailedRunLeavesTheWorkspaceAsItWas) {
   WriteTexturedImage(images / "a.png", 1);
   const fs::path workspace = dir.path() / "ws.db";
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images)), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images)), &out), 0) << out;
   WriteTexturedImage(images / "b.png", 2);
   WriteTexturedImage(images / "c.png", 3);
   {
@@ -208,7 +209,8 @@ TEST(ExtractCommand, AFailedRunLeavesTheWorkspaceAsItWas) {
               SQLITE_OK);
     sqlite3_close(db);
   }
-  EXPECT_EQ(RunCommand(Extract(workspace, "--images " + Quote(images) + " --threads 1"), &out), 1)
+  EXPECT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images) + " --threads 1"), &out),
+            1)
       << out;
   EXPECT_NE(out.find("injected failure"), std::string::npos) << out;
   Database db(workspace);
@@ -226,11 +228,11 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   fs::create_directories(images);
   for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
   const fs::path workspace = dir.path() / "ws.db";
-  const std::string input = "--images " + Quote(images);
+  const std::string input = "--images " + ShellQuote(images);
   std::string out;
   ASSERT_EQ(RunCommand(Extract(workspace, input + " --max-features 40"), &out), 0) << out;
   const std::string match =
-      fmt::format("{} match --workspace {}", Quote(VarsfmBinary()), Quote(workspace));
+      fmt::format("{} match --workspace {}", ShellQuote(VarsfmBinary()), ShellQuote(workspace));
   ASSERT_EQ(RunCommand(match, &out), 0) << out;
   size_t few = 0;
   {
@@ -264,7 +266,7 @@ TEST(ExtractCommand, FeaturesOfAnotherExtractorVersionAreExtractedAgain) {
   fs::create_directories(images);
   for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
   const fs::path workspace = dir.path() / "ws.db";
-  const std::string extract = Extract(workspace, "--images " + Quote(images));
+  const std::string extract = Extract(workspace, "--images " + ShellQuote(images));
   std::string out;
   ASSERT_EQ(RunCommand(extract, &out), 0) << out;
   const FeatureKeypoints first = Database(workspace).ReadKeypoints(1);
@@ -327,7 +329,8 @@ TEST(ExtractCommand, VideoKeyframesAreExtractedAndBlurredFramesDropped) {
   WritePanVideo(video, 40, blurred);
   const fs::path workspace = dir.path() / "scan.db";
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 8"), &out), 0)
+  ASSERT_EQ(
+      RunCommand(Extract(workspace, "--video " + ShellQuote(video) + " --max-frames 8"), &out), 0)
       << out;
   const fs::path frames = VideoFramesDir(workspace);
   EXPECT_EQ(frames, dir.path() / "scan_frames");
@@ -359,7 +362,8 @@ TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
   const fs::path workspace = dir.path() / "ws.db";
   const fs::path frames = VideoFramesDir(workspace);
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(dir.path() / "pan.avi")), &out), 0)
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + ShellQuote(dir.path() / "pan.avi")), &out),
+            0)
       << out;
   std::map<std::string, std::string> first_files;
   for (const DbImage& image : Database(workspace).ReadAllImages()) {
@@ -368,7 +372,7 @@ TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
   ASSERT_GE(first_files.size(), 2u);
 
   for (const fs::path video : {dir.path() / "walk.avi", dir.path() / "other" / "pan.avi"}) {
-    ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video)), &out), 0) << out;
+    ASSERT_EQ(RunCommand(Extract(workspace, "--video " + ShellQuote(video)), &out), 0) << out;
   }
   std::map<std::string, size_t> per_video;
   {
@@ -387,7 +391,8 @@ TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
   }
 
   const size_t total = per_video["pan"] + per_video["walk"] + per_video["pan_2"];
-  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(dir.path() / "pan.avi")), &out), 0)
+  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + ShellQuote(dir.path() / "pan.avi")), &out),
+            0)
       << out;
   EXPECT_NE(out.find(fmt::format("{0} of {0} images already extracted", first_files.size())),
             std::string::npos)
@@ -403,10 +408,12 @@ TEST(ExtractCommand, OtherKeyframeSettingsReplaceTheEarlierKeyframes) {
   WritePanVideo(video, 30, {});
   const fs::path workspace = dir.path() / "ws.db";
   std::string out;
-  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 6"), &out), 0)
+  ASSERT_EQ(
+      RunCommand(Extract(workspace, "--video " + ShellQuote(video) + " --max-frames 6"), &out), 0)
       << out;
   ASSERT_EQ(Database(workspace).NumImages(), 6u);
-  ASSERT_EQ(RunCommand(Extract(workspace, "--video " + Quote(video) + " --max-frames 3"), &out), 0)
+  ASSERT_EQ(
+      RunCommand(Extract(workspace, "--video " + ShellQuote(video) + " --max-frames 3"), &out), 0)
       << out;
   Database db(workspace);
   EXPECT_EQ(db.NumImages(), 3u);
@@ -426,7 +433,7 @@ class ExtractBadInput : public ::testing::Test {
     cv::RNG(1).fill(image, cv::RNG::UNIFORM, 0, 256);
     cv::GaussianBlur(image, image, cv::Size(), 2.0);
     WriteImage(good_ / "a.png", image);
-    ASSERT_EQ(RunCommand(Extract(workspace_, "--images " + Quote(good_)), &out_), 0) << out_;
+    ASSERT_EQ(RunCommand(Extract(workspace_, "--images " + ShellQuote(good_)), &out_), 0) << out_;
     before_ = FileBytes(workspace_);
     ASSERT_FALSE(before_.empty());
   }
@@ -451,13 +458,13 @@ class ExtractBadInput : public ::testing::Test {
 };
 
 TEST_F(ExtractBadInput, MissingFolder) {
-  ExpectFailure("--images " + Quote(dir_.path() / "absent"), "absent");
+  ExpectFailure("--images " + ShellQuote(dir_.path() / "absent"), "absent");
 }
 
 TEST_F(ExtractBadInput, EmptyFolder) {
   fs::create_directories(dir_.path() / "empty");
   std::ofstream(dir_.path() / "empty" / "readme.txt") << "no images here\n";
-  ExpectFailure("--images " + Quote(dir_.path() / "empty"), "empty");
+  ExpectFailure("--images " + ShellQuote(dir_.path() / "empty"), "empty");
 }
 
 TEST_F(ExtractBadInput, OnlyTextAndTruncatedJpegs) {
@@ -471,20 +478,21 @@ TEST_F(ExtractBadInput, OnlyTextAndTruncatedJpegs) {
   std::ofstream(bad / "truncated.jpg", std::ios::binary)
       .write(reinterpret_cast<const char*>(jpeg.data()),
              static_cast<std::streamsize>(jpeg.size() / 2));
-  ExpectFailure("--images " + Quote(bad), "no readable image");
+  ExpectFailure("--images " + ShellQuote(bad), "no readable image");
   EXPECT_NE(out_.find("text.jpg"), std::string::npos) << out_;
   EXPECT_NE(out_.find("truncated.jpg"), std::string::npos) << out_;
 }
 
 TEST_F(ExtractBadInput, UndecodableAndMissingVideo) {
   std::ofstream(dir_.path() / "bad.avi") << "not a video\n";
-  ExpectFailure("--video " + Quote(dir_.path() / "bad.avi"), "bad.avi");
-  ExpectFailure("--video " + Quote(dir_.path() / "absent.mp4"), "absent.mp4");
+  ExpectFailure("--video " + ShellQuote(dir_.path() / "bad.avi"), "bad.avi");
+  ExpectFailure("--video " + ShellQuote(dir_.path() / "absent.mp4"), "absent.mp4");
 }
 
 // A usage error exits with CLI11's own code (neither 0 nor 1, varsfm's runtime error).
 TEST_F(ExtractBadInput, BothOrNeitherInputIsAUsageError) {
-  for (const std::string& args : {"--images " + Quote(good_) + " --video x.avi", std::string()}) {
+  for (const std::string& args :
+       {"--images " + ShellQuote(good_) + " --video x.avi", std::string()}) {
     const int rc = RunCommand(Extract(workspace_, args), &out_);
     EXPECT_NE(rc, 0) << out_;
     EXPECT_NE(rc, 1) << out_;

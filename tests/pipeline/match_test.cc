@@ -15,23 +15,23 @@ namespace varsfm {
 namespace {
 
 using testing::RunCommand;
+using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
-
-std::string Quote(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
 TEST(MatchCommand, KermitAdjacentPairsAreVerified) {
   VARSFM_REQUIRE_SHARED_DATA(images, "bundler/kermit");
   TempDir dir("match_kermit");
   const auto workspace = dir.path() / "ws.db";
   std::string out;
-  ASSERT_EQ(RunCommand(fmt::format("{} extract --workspace {} --images {}", Quote(VarsfmBinary()),
-                                   Quote(workspace), Quote(images)),
-                       &out),
-            0)
+  ASSERT_EQ(
+      RunCommand(fmt::format("{} extract --workspace {} --images {}", ShellQuote(VarsfmBinary()),
+                             ShellQuote(workspace), ShellQuote(images)),
+                 &out),
+      0)
       << out;
   const std::string match = fmt::format("{} match --workspace {} --strategy exhaustive",
-                                        Quote(VarsfmBinary()), Quote(workspace));
+                                        ShellQuote(VarsfmBinary()), ShellQuote(workspace));
   ASSERT_EQ(RunCommand(match, &out), 0) << out;
 
   Database db(workspace);
@@ -164,10 +164,10 @@ TEST(MatchCommand, BadWorkspacesFailWithOneLine) {
   TempDir dir("match_bad");
   const auto missing = dir.path() / "missing.db";
   std::string out;
-  EXPECT_EQ(
-      RunCommand(fmt::format("{} match --workspace {}", Quote(VarsfmBinary()), Quote(missing)),
-                 &out),
-      1);
+  EXPECT_EQ(RunCommand(fmt::format("{} match --workspace {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(missing)),
+                       &out),
+            1);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(missing));  // not created
 
@@ -176,15 +176,16 @@ TEST(MatchCommand, BadWorkspacesFailWithOneLine) {
   std::filesystem::create_directories(one);
   std::filesystem::copy_file(images / "kermit000.jpg", one / "kermit000.jpg");
   const auto workspace = dir.path() / "one.db";
-  ASSERT_EQ(RunCommand(fmt::format("{} extract --workspace {} --images {}", Quote(VarsfmBinary()),
-                                   Quote(workspace), Quote(one)),
-                       &out),
-            0)
-      << out;
-  EXPECT_EQ(
-      RunCommand(fmt::format("{} match --workspace {}", Quote(VarsfmBinary()), Quote(workspace)),
+  ASSERT_EQ(
+      RunCommand(fmt::format("{} extract --workspace {} --images {}", ShellQuote(VarsfmBinary()),
+                             ShellQuote(workspace), ShellQuote(one)),
                  &out),
-      1);
+      0)
+      << out;
+  EXPECT_EQ(RunCommand(fmt::format("{} match --workspace {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(workspace)),
+                       &out),
+            1);
   EXPECT_NE(out.find("needs at least 2"), std::string::npos) << out;
   EXPECT_EQ(Database(workspace).NumMatchedPairs(), 0u);
 }

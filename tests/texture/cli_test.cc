@@ -19,11 +19,9 @@ namespace varsfm {
 namespace {
 
 using testing::RunCommand;
+using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
-
-// Shell-quoted path, for the command lines below.
-std::string Q(const std::filesystem::path& p) { return testing::ShellQuote(p); }
 
 // OUT/`model`, OUT/images and OUT/mesh.ply for the rendered synthetic scene: the model in
 // `map`'s layout (sparse/0) or in a single model folder (sparse), as other tools write it.
@@ -62,8 +60,9 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   WriteSyntheticInputs(out, 4, std::filesystem::path("sparse") / "0");
   std::string log;
   ASSERT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}",
-                                   Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
-                                   Q(out / "images"), Q(out)),
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out / "mesh.ply"),
+                                   ShellQuote(out / "sparse"), ShellQuote(out / "images"),
+                                   ShellQuote(out)),
                        &log),
             0)
       << log;
@@ -81,7 +80,8 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   }
 
   ASSERT_EQ(RunCommand(fmt::format("{} render --model {} --camera view2.png --output {}",
-                                   Q(VarsfmBinary()), Q(out), Q(out / "view2_render.png")),
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out),
+                                   ShellQuote(out / "view2_render.png")),
                        &log),
             0)
       << log;
@@ -90,11 +90,11 @@ TEST(TextureCommand, TexturesRendersAndScoresASyntheticScene) {
   EXPECT_EQ(rendered.rows, 240);
 
   // No --gt: the rendering report alone.
-  ASSERT_EQ(
-      RunCommand(fmt::format("{} evaluate {} --render --images {} --json {}", Q(VarsfmBinary()),
-                             Q(out / "sparse" / "0"), Q(out / "images"), Q(out / "render.json")),
-                 &log),
-      0)
+  ASSERT_EQ(RunCommand(fmt::format("{} evaluate {} --render --images {} --json {}",
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out / "sparse" / "0"),
+                                   ShellQuote(out / "images"), ShellQuote(out / "render.json")),
+                       &log),
+            0)
       << log;
   EXPECT_NE(log.find("PSNR"), std::string::npos) << log;
   const nlohmann::json report = nlohmann::json::parse(std::ifstream(out / "render.json"));
@@ -110,8 +110,9 @@ TEST(TextureCommand, BadInputIsAOneLineError) {
   std::string log;
   const auto texture = [&](const std::filesystem::path& mesh) {
     return RunCommand(
-        fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}", Q(VarsfmBinary()),
-                    Q(mesh), Q(out / "sparse"), Q(out / "images"), Q(out / "o")),
+        fmt::format("{} texture --mesh {} --sparse {} --images {} --output {}",
+                    ShellQuote(VarsfmBinary()), ShellQuote(mesh), ShellQuote(out / "sparse"),
+                    ShellQuote(out / "images"), ShellQuote(out / "o")),
         &log);
   };
   EXPECT_EQ(texture(out / "missing.ply"), 1);
@@ -121,17 +122,20 @@ TEST(TextureCommand, BadInputIsAOneLineError) {
   EXPECT_NE(log.find("no registered images"), std::string::npos) << log;
   EXPECT_FALSE(std::filesystem::exists(out / "o" / "model.glb"));
 
-  EXPECT_EQ(RunCommand(fmt::format("{} render --model {} --camera nope.png --output {}",
-                                   Q(VarsfmBinary()), Q(out), Q(out / "x.png")),
-                       &log),
+  EXPECT_EQ(RunCommand(
+                fmt::format("{} render --model {} --camera nope.png --output {}",
+                            ShellQuote(VarsfmBinary()), ShellQuote(out), ShellQuote(out / "x.png")),
+                &log),
             1);
   EXPECT_NE(log.find("varsfm: error:"), std::string::npos) << log;
   // Neither --gt nor --render: a usage error.
-  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {}", Q(VarsfmBinary()), Q(out / "sparse")), &log),
+  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(out / "sparse")),
+                       &log),
             2);
   EXPECT_NE(log.find("--gt"), std::string::npos) << log;
-  EXPECT_NE(RunCommand(fmt::format("{} run {} {} --until everything", Q(VarsfmBinary()),
-                                   Q(out / "images"), Q(out / "run")),
+  EXPECT_NE(RunCommand(fmt::format("{} run {} {} --until everything", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(out / "images"), ShellQuote(out / "run")),
                        &log),
             0);
   EXPECT_NE(log.find("--until"), std::string::npos) << log;
@@ -151,17 +155,17 @@ TEST(TextureCommand, HoldoutKeepsViewsOutAndScoresThemApart) {
   const auto out = tmp.path();
   WriteSyntheticInputs(out, 4);
   std::string log;
-  ASSERT_EQ(
-      RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {} --holdout 2",
-                             Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
-                             Q(out / "images"), Q(out)),
-                 &log),
-      0)
+  ASSERT_EQ(RunCommand(fmt::format(
+                           "{} texture --mesh {} --sparse {} --images {} --output {} --holdout 2",
+                           ShellQuote(VarsfmBinary()), ShellQuote(out / "mesh.ply"),
+                           ShellQuote(out / "sparse"), ShellQuote(out / "images"), ShellQuote(out)),
+                       &log),
+            0)
       << log;
   EXPECT_NE(log.find("2 held-out view(s) left out"), std::string::npos) << log;
   ASSERT_EQ(RunCommand(fmt::format("{} evaluate {} --render --images {} --holdout 2 --json {}",
-                                   Q(VarsfmBinary()), Q(out / "sparse"), Q(out / "images"),
-                                   Q(out / "render.json")),
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out / "sparse"),
+                                   ShellQuote(out / "images"), ShellQuote(out / "render.json")),
                        &log),
             0)
       << log;
@@ -177,8 +181,9 @@ TEST(TextureCommand, HoldoutKeepsViewsOutAndScoresThemApart) {
   EXPECT_GT(report["held_out"]["mean_ssim"].get<double>(), 0.5) << report.dump();
   EXPECT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {} "
                                    "--holdout 1",
-                                   Q(VarsfmBinary()), Q(out / "mesh.ply"), Q(out / "sparse"),
-                                   Q(out / "images"), Q(out / "o")),
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out / "mesh.ply"),
+                                   ShellQuote(out / "sparse"), ShellQuote(out / "images"),
+                                   ShellQuote(out / "o")),
                        &log) != 0,
             true);
   EXPECT_NE(log.find("--holdout: expected"), std::string::npos) << log;
