@@ -14,11 +14,7 @@
 namespace varsfm {
 namespace {
 
-using testing::Hit;
 using testing::PlaneDistance;
-using testing::Quad;
-using testing::SceneQuads;
-using testing::SparseModel;
 
 TEST(Densify, RenderedSceneLiesOnTheTrueSurfaces) {
   RenderedSceneOptions options;
@@ -28,8 +24,8 @@ TEST(Densify, RenderedSceneLiesOnTheTrueSurfaces) {
   options.focal_start = 256;  // the default 640 at 800 px, scaled to 320 px
   options.arc_degrees = 50;
   const RenderedScene scene = RenderSyntheticScene(options);
-  const std::vector<Quad> quads = SceneQuads();
-  const Reconstruction rec = SparseModel(scene, quads);
+  const std::vector<SurfaceQuad>& quads = scene.surface;
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
   ASSERT_GT(rec.points3D().size(), 100u);
 
   DensifyStats stats;

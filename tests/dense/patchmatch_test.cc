@@ -17,10 +17,7 @@
 namespace varsfm {
 namespace {
 
-using testing::Hit;
 using testing::PlaneDistance;
-using testing::SceneQuads;
-using testing::SparseModel;
 
 double Median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -46,8 +43,8 @@ RenderedScene SmallScene() {
 
 TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
   const RenderedScene scene = SmallScene();
-  const std::vector<testing::Quad> quads = SceneQuads();
-  const Reconstruction rec = SparseModel(scene, quads);
+  const std::vector<SurfaceQuad>& quads = scene.surface;
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
   std::vector<PatchMatchView> views;
   for (size_t i = 0; i < scene.images.size(); ++i) {
     PatchMatchView v;
@@ -76,11 +73,12 @@ TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
       if (map.depth[i] <= 0) continue;
       // The camera-frame ray with z = 1 in world coordinates: the hit distance is the depth.
       const Eigen::Vector3d ray = K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1);
-      int face = -1;
-      const double truth = Hit(quads, centre, pose.R().transpose() * ray, &face);
+      size_t face = quads.size();
+      const double truth = NearestHit(quads, centre, pose.R().transpose() * ray, &face);
       ASSERT_TRUE(std::isfinite(truth));
       depth_errors.push_back(std::abs(map.depth[i] - truth) / truth);
-      const testing::Quad& q = quads[face];
+      ASSERT_LT(face, quads.size());
+      const SurfaceQuad& q = quads[face];
       const Eigen::Vector3d n = pose.R() * q.u.cross(q.v).normalized();
       normal_errors.push_back(
           std::acos(std::min(1.0, std::abs(n.dot(map.normal[i].cast<double>())))) * 180 / M_PI);
@@ -103,8 +101,8 @@ DenseReconstructionOptions PatchMatchOptionsFor(DenseMethod method) {
 
 TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
   const RenderedScene scene = SmallScene();
-  const std::vector<testing::Quad> quads = SceneQuads();
-  const Reconstruction rec = SparseModel(scene, quads);
+  const std::vector<SurfaceQuad>& quads = scene.surface;
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
   DenseVisibility visibility;
   DensifyStats stats;
   const PointCloud cloud = Densify(
@@ -129,7 +127,7 @@ TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
     for (image_t id : visibility[i]) {
       const Eigen::Vector3d c = scene.poses[id - 1].Center();
       ++observations;
-      if (std::abs(Hit(quads, c, X - c) - 1) > 0.02) ++unseen;
+      if (std::abs(NearestHit(quads, c, X - c) - 1) > 0.02) ++unseen;
     }
   }
   // A depth-map pixel spans about 0.027 scene units at the back wall.
@@ -141,7 +139,7 @@ TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
 
 TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
   const RenderedScene scene = SmallScene();
-  const Reconstruction rec = SparseModel(scene, SceneQuads());
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
   const auto run = [&](int threads) {
     DenseReconstructionOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
     options.mvs.max_image_size = 160;
@@ -168,7 +166,7 @@ TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
 
 TEST(MultiViewStereo, FillKeepsPropagationAndAddsWherePropagationStops) {
   const RenderedScene scene = SmallScene();
-  const Reconstruction rec = SparseModel(scene, SceneQuads());
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
   const auto load = [&](image_t id) { return scene.images[id - 1]; };
   DenseVisibility propagation_visibility, fill_visibility;
   DensifyStats stats;

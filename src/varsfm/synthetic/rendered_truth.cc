@@ -22,9 +22,10 @@ TriangleMesh SurfaceMesh(const std::vector<SurfaceQuad>& quads) {
 }
 
 double NearestHit(const std::vector<SurfaceQuad>& quads, const Eigen::Vector3d& origin,
-                  const Eigen::Vector3d& dir) {
+                  const Eigen::Vector3d& dir, size_t* quad) {
   double best = std::numeric_limits<double>::infinity();
-  for (const SurfaceQuad& q : quads) {
+  for (size_t i = 0; i < quads.size(); ++i) {
+    const SurfaceQuad& q = quads[i];
     const Eigen::Vector3d n = q.u.cross(q.v);
     if (std::abs(n.dot(dir)) < 1e-12) continue;
     const double t = n.dot(q.origin - origin) / n.dot(dir);
@@ -33,6 +34,7 @@ double NearestHit(const std::vector<SurfaceQuad>& quads, const Eigen::Vector3d& 
     const double s = p.dot(q.u) / q.u.squaredNorm(), r = p.dot(q.v) / q.v.squaredNorm();
     if (s < 0 || s > 1 || r < 0 || r > 1) continue;
     best = t;
+    if (quad) *quad = i;
   }
   return best;
 }
