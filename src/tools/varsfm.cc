@@ -27,6 +27,7 @@
 #include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/run.h"
 #include "varsfm/pipeline/texture.h"
+#include "varsfm/util/enum_names.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -59,6 +60,14 @@ T Choose(const std::string& flag, const Choices<T>& choices, std::string text) {
   throw CLI::ValidationError(flag, fmt::format("expected {}, got {}", ChoiceNames(choices), text));
 }
 
+// The choices of an enum's name table (util/enum_names.h), in its order.
+template <typename T, size_t N>
+Choices<T> ChoicesOf(const varsfm::EnumName<T> (&names)[N]) {
+  Choices<T> choices;
+  for (const auto& [value, name] : names) choices.emplace_back(name, value);
+  return choices;
+}
+
 // An option that takes one of `choices` into `*target`; the help shows the current value.
 template <typename T>
 CLI::Option* AddChoice(CLI::App* cmd, const std::string& flag, T* target, Choices<T> choices,
@@ -81,40 +90,13 @@ const CLI::Validator kNotNegative(
     },
     "");
 
-Choices<varsfm::MatchStrategy> MatchStrategies() {
-  using varsfm::MatchStrategy;
-  Choices<MatchStrategy> choices;
-  for (const MatchStrategy s : {MatchStrategy::kExhaustive, MatchStrategy::kSequential,
-                                MatchStrategy::kRetrieval, MatchStrategy::kAuto})
-    choices.emplace_back(varsfm::MatchStrategyName(s), s);
-  return choices;
-}
-
 Choices<varsfm::RetrievalScoring> RetrievalScorings() {
   return {{"l1", varsfm::RetrievalScoring::kL1}, {"l2", varsfm::RetrievalScoring::kL2}};
 }
 
-Choices<varsfm::RunStage> RunStages() {
-  using varsfm::RunStage;
-  Choices<RunStage> choices;
-  for (const RunStage s :
-       {RunStage::kSparse, RunStage::kDense, RunStage::kMesh, RunStage::kTexture})
-    choices.emplace_back(varsfm::RunStageName(s), s);
-  return choices;
-}
-
-Choices<varsfm::DenseMethod> DenseMethods() {
-  using varsfm::DenseMethod;
-  Choices<DenseMethod> choices;
-  for (const DenseMethod m : {DenseMethod::kPropagation, DenseMethod::kPatchMatch,
-                              DenseMethod::kSeeded, DenseMethod::kFill, DenseMethod::kSeededFill})
-    choices.emplace_back(varsfm::DenseMethodName(m), m);
-  return choices;
-}
-
 // The dense method and its multi-view stereo settings (densify and run).
 void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* dense) {
-  AddChoice(cmd, "--dense-method", &dense->method, DenseMethods(),
+  AddChoice(cmd, "--dense-method", &dense->method, ChoicesOf(varsfm::kDenseMethodNames),
             "match propagation, PatchMatch depth maps, PatchMatch started from propagation, "
             "propagation filled by PatchMatch, or both");
   cmd->add_option("--dense-max-image-size", dense->mvs.max_image_size,
@@ -262,7 +244,7 @@ void AddMatchCommand(CLI::App* app) {
   auto options = std::make_shared<varsfm::MatchOptions>();
   CLI::App* cmd = app->add_subcommand("match", "match features of image pairs and verify them");
   cmd->add_option("--workspace", options->workspace, "workspace database")->required();
-  AddChoice(cmd, "--strategy", &options->strategy, MatchStrategies(),
+  AddChoice(cmd, "--strategy", &options->strategy, ChoicesOf(varsfm::kMatchStrategyNames),
             fmt::format("every pair, each image with its next --overlap, its top "
                         "--retrieval-neighbors by a vocabulary tree, or retrieval above {} images",
                         varsfm::kAutoRetrievalImages));
@@ -319,13 +301,6 @@ void AddMapCommand(CLI::App* app) {
   cmd->callback([options] { varsfm::RunMapping(*options); });
 }
 
-// The surface methods by name (mesh/surface.h).
-Choices<varsfm::SurfaceMethod> SurfaceMethods() {
-  return {{"delaunay", varsfm::SurfaceMethod::kDelaunay},
-          {"poisson", varsfm::SurfaceMethod::kScreenedPoisson},
-          {"afront", varsfm::SurfaceMethod::kAdvancingFront}};
-}
-
 // run: photos or a video -> model, every stage with its defaults.
 void AddRunCommand(CLI::App* app) {
   auto options = std::make_shared<varsfm::RunOptions>();
@@ -333,22 +308,22 @@ void AddRunCommand(CLI::App* app) {
       app->add_subcommand("run", "the whole chain: extract, match, map, densify, mesh, texture");
   cmd->add_option("input", options->input, "folder of photos, or a video file")->required();
   cmd->add_option("output", options->output, "output folder")->required();
-  AddChoice(cmd, "--matching", &options->matching, MatchStrategies(),
+  AddChoice(cmd, "--matching", &options->matching, ChoicesOf(varsfm::kMatchStrategyNames),
             fmt::format("auto: sequential for a video, retrieval above {} images, else "
                         "exhaustive",
                         varsfm::kAutoRetrievalImages));
   cmd->add_option("--max-features", options->extract.sift.max_features, "strongest features kept")
       ->capture_default_str();
-  AddChoice(cmd, "--until", &options->until, RunStages(), "the last stage run");
+  AddChoice(cmd, "--until", &options->until, ChoicesOf(varsfm::kRunStageNames),
+            "the last stage run");
   AddDenseMethodOptions(cmd, &options->dense);
   cmd->add_option("--holdout", options->holdout,
                   "keep every N-th registered image (by name) out of densify and texture, then "
                   "score the model on those views (PSNR, SSIM, coverage); 0: none")
       ->capture_default_str();
-  AddChoice(
-      cmd, "--surface", &options->surface.method, SurfaceMethods(),
-      "mesh stage: visibility-based Delaunay graph cut, screened Poisson, or advancing "
-      "front");
+  AddChoice(cmd, "--surface", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
+            "mesh stage: visibility-based Delaunay graph cut, screened Poisson, or advancing "
+            "front");
   AddMapperOptions(cmd, &options->map);
   cmd->callback([options] { varsfm::RunAll(*options); });
 }
@@ -391,7 +366,8 @@ void AddDemoCommand(CLI::App* app) {
   cmd->add_option("--seed", options->scene.seed, "scene seed")
       ->capture_default_str()
       ->check(kNotNegative);
-  AddChoice(cmd, "--until", &options->run.until, RunStages(), "the last stage run");
+  AddChoice(cmd, "--until", &options->run.until, ChoicesOf(varsfm::kRunStageNames),
+            "the last stage run");
   cmd->callback([options] { varsfm::RunDemo(*options); });
 }
 
@@ -429,7 +405,7 @@ void AddMeshCommand(CLI::App* app) {
   cmd->add_option("--sparse", options->sparse,
                   "delaunay: the sparse model whose cameras see the points of INPUT.vis "
                   "(default: INPUT's folder/sparse)");
-  AddChoice(cmd, "--method", &options->surface.method, SurfaceMethods(),
+  AddChoice(cmd, "--method", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
             "visibility-based Delaunay graph cut, screened Poisson, or advancing front");
   cmd->add_option("--max-depth", options->surface.max_depth,
                   "screened Poisson: largest octree depth (the depth follows the cloud)")
@@ -526,9 +502,7 @@ void AddExportCommand(CLI::App* app) {
   auto options = std::make_shared<varsfm::ExportOptions>();
   CLI::App* cmd = app->add_subcommand(
       "export", "write the model for 3D Gaussian Splatting (3dgs) or nerfstudio");
-  AddChoice(cmd, "--format", &options->format,
-            {{"3dgs", varsfm::ExportFormat::kGaussianSplatting},
-             {"nerfstudio", varsfm::ExportFormat::kNerfstudio}},
+  AddChoice(cmd, "--format", &options->format, ChoicesOf(varsfm::kExportFormatNames),
             "the layout written");
   cmd->add_option("model", options->model, "output folder of run/map, or a COLMAP model folder")
       ->required();

@@ -383,22 +383,6 @@ void Append(PointCloud&& b, DenseVisibility&& b_visibility, PointCloud* a,
 
 }  // namespace
 
-std::string_view DenseMethodName(DenseMethod method) {
-  switch (method) {
-    case DenseMethod::kPropagation:
-      return "propagation";
-    case DenseMethod::kPatchMatch:
-      return "patchmatch";
-    case DenseMethod::kSeeded:
-      return "seeded";
-    case DenseMethod::kFill:
-      return "fill";
-    case DenseMethod::kSeededFill:
-      return "seeded-fill";
-  }
-  return "?";
-}
-
 PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
                    const DenseReconstructionOptions& options, DensifyStats* stats,
                    DenseVisibility* visibility) {

@@ -17,6 +17,7 @@
 #include "varsfm/dense/undistorted_view.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
+#include "varsfm/util/enum_names.h"
 
 namespace varsfm {
 
@@ -73,8 +74,15 @@ struct DensifyStats {
 std::vector<std::pair<image_t, image_t>> SelectDensePairs(
     const Reconstruction& reconstruction, const DenseReconstructionOptions& options);
 
-// "propagation", "patchmatch", "seeded", "fill", "seeded-fill".
-std::string_view DenseMethodName(DenseMethod method);
+inline constexpr EnumName<DenseMethod> kDenseMethodNames[] = {
+    {DenseMethod::kPropagation, "propagation"},
+    {DenseMethod::kPatchMatch, "patchmatch"},
+    {DenseMethod::kSeeded, "seeded"},
+    {DenseMethod::kFill, "fill"},
+    {DenseMethod::kSeededFill, "seeded-fill"}};
+inline std::string_view DenseMethodName(DenseMethod method) {
+  return NameOf(kDenseMethodNames, method);
+}
 
 // `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). `visibility`, when
 // given, gets the ids of the images that see each point. Throws varsfm::Error when the model has

@@ -90,13 +90,6 @@ void SurfaceOptions::Check() const {
   quality.Check();
 }
 
-SurfaceMethod ParseSurfaceMethod(const std::string& name) {
-  if (name == "poisson") return SurfaceMethod::kScreenedPoisson;
-  if (name == "afront") return SurfaceMethod::kAdvancingFront;
-  if (name == "delaunay") return SurfaceMethod::kDelaunay;
-  Fail("unknown surface method '{}' (poisson | delaunay | afront)", name);
-}
-
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats) {
   if (cloud.points.size() < 10) {

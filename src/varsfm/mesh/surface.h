@@ -21,6 +21,7 @@
 #include "varsfm/mesh/mesh_quality.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/triangle_mesh.h"
+#include "varsfm/util/enum_names.h"
 
 namespace varsfm {
 
@@ -75,7 +76,14 @@ struct SurfaceStats {
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats = nullptr);
 
-// "poisson" (screened) / "delaunay" / "afront"; throws varsfm::Error for anything else.
-SurfaceMethod ParseSurfaceMethod(const std::string& name);
+// The names the command line takes (`--method`, `--surface`), the default first.
+inline constexpr EnumName<SurfaceMethod> kSurfaceMethodNames[] = {
+    {SurfaceMethod::kDelaunay, "delaunay"},
+    {SurfaceMethod::kScreenedPoisson, "poisson"},
+    {SurfaceMethod::kAdvancingFront, "afront"}};
+// Throws varsfm::Error naming the choices for a name that is none of them.
+inline SurfaceMethod ParseSurfaceMethod(const std::string& name) {
+  return ValueOf(kSurfaceMethodNames, name, "surface method");
+}
 
 }  // namespace varsfm

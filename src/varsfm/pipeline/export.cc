@@ -41,12 +41,6 @@ std::filesystem::path FindImageFolder(const ExportOptions& options) {
 
 }  // namespace
 
-ExportFormat ParseExportFormat(const std::string& name) {
-  if (name == "3dgs") return ExportFormat::kGaussianSplatting;
-  if (name == "nerfstudio") return ExportFormat::kNerfstudio;
-  Fail("--format {}: expected 3dgs or nerfstudio", name);
-}
-
 void ExportOptions::Check() const {
   if (model.empty()) Fail("--model: no model given");
   if (!std::filesystem::exists(model)) Fail("--model {}: no such folder", model.string());

@@ -5,12 +5,19 @@
 #include <filesystem>
 #include <string>
 
+#include "varsfm/util/enum_names.h"
+
 namespace varsfm {
 
 enum class ExportFormat { kGaussianSplatting, kNerfstudio };
 
-// "3dgs" / "nerfstudio"; throws varsfm::Error naming the choices for anything else.
-ExportFormat ParseExportFormat(const std::string& name);
+// The names `--format` takes.
+inline constexpr EnumName<ExportFormat> kExportFormatNames[] = {
+    {ExportFormat::kGaussianSplatting, "3dgs"}, {ExportFormat::kNerfstudio, "nerfstudio"}};
+// Throws varsfm::Error naming the choices for a name that is none of them.
+inline ExportFormat ParseExportFormat(const std::string& name) {
+  return ValueOf(kExportFormatNames, name, "export format");
+}
 
 struct ExportOptions {
   ExportFormat format = ExportFormat::kGaussianSplatting;

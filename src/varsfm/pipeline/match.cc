@@ -276,20 +276,6 @@ ImagePairs SelectPairs(const Database& db, const std::vector<image_t>& ids, Matc
 
 }  // namespace
 
-std::string_view MatchStrategyName(MatchStrategy strategy) {
-  switch (strategy) {
-    case MatchStrategy::kExhaustive:
-      return "exhaustive";
-    case MatchStrategy::kSequential:
-      return "sequential";
-    case MatchStrategy::kRetrieval:
-      return "retrieval";
-    case MatchStrategy::kAuto:
-      break;
-  }
-  return "auto";
-}
-
 void MatchOptions::Check() const {
   CheckAtLeast("--overlap", overlap, 1);
   CheckAtLeast("--loop-interval", loop_interval, 0);

@@ -13,6 +13,7 @@
 #include "varsfm/matching/geometric_verification.h"
 #include "varsfm/matching/image_retrieval.h"
 #include "varsfm/matching/vocabulary_tree.h"
+#include "varsfm/util/enum_names.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/random.h"
 
@@ -32,9 +33,15 @@ enum class MatchStrategy {
 // tree, measured on a rendered 240-image walk (bench/results/2026-12-02-retrieval.md).
 inline constexpr size_t kAutoRetrievalImages = 100;
 
-// "exhaustive", "sequential", "retrieval", "auto": the names the command line takes and summaries
-// give.
-std::string_view MatchStrategyName(MatchStrategy strategy);
+// The names the command line takes and summaries give.
+inline constexpr EnumName<MatchStrategy> kMatchStrategyNames[] = {
+    {MatchStrategy::kExhaustive, "exhaustive"},
+    {MatchStrategy::kSequential, "sequential"},
+    {MatchStrategy::kRetrieval, "retrieval"},
+    {MatchStrategy::kAuto, "auto"}};
+inline std::string_view MatchStrategyName(MatchStrategy strategy) {
+  return NameOf(kMatchStrategyNames, strategy);
+}
 
 struct MatchOptions {
   std::filesystem::path workspace;  // must exist, with features from `varsfm extract`

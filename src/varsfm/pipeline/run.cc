@@ -11,20 +11,6 @@
 
 namespace varsfm {
 
-std::string_view RunStageName(RunStage stage) {
-  switch (stage) {
-    case RunStage::kSparse:
-      return "sparse";
-    case RunStage::kDense:
-      return "dense";
-    case RunStage::kMesh:
-      return "mesh";
-    case RunStage::kTexture:
-      break;
-  }
-  return "texture";
-}
-
 void RunOptions::Check() const {
   extract.Check();
   match.Check();

@@ -14,6 +14,7 @@
 #include "varsfm/pipeline/render.h"
 #include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/texture.h"
+#include "varsfm/util/enum_names.h"
 #include "varsfm/util/option_check.h"
 
 namespace varsfm {
@@ -22,8 +23,12 @@ namespace varsfm {
 // the mesh, the texture (everything).
 enum class RunStage { kSparse, kDense, kMesh, kTexture };
 
-// "sparse", "dense", "mesh", "texture": the names `--until` takes.
-std::string_view RunStageName(RunStage stage);
+// The names `--until` takes.
+inline constexpr EnumName<RunStage> kRunStageNames[] = {{RunStage::kSparse, "sparse"},
+                                                        {RunStage::kDense, "dense"},
+                                                        {RunStage::kMesh, "mesh"},
+                                                        {RunStage::kTexture, "texture"}};
+inline std::string_view RunStageName(RunStage stage) { return NameOf(kRunStageNames, stage); }
 
 struct RunOptions {
   std::filesystem::path input;   // a folder of photos or a video file
