@@ -2,10 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "varsfm/io/colmap_model.h"
 #include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
+#include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
@@ -61,13 +61,8 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
     Fail("workspace {} does not exist", options.workspace.string());
-  if (!std::filesystem::is_directory(options.sparse))
-    Fail("sparse model folder {} does not exist", options.sparse.string());
-  if (!std::filesystem::is_directory(options.image_dir))
-    Fail("image folder {} does not exist", options.image_dir.string());
-  Reconstruction rec = ReadColmapModel(options.sparse);
-  if (const size_t n = HoldOutImages(&rec, options.holdout))
-    info("densify: {} held-out view(s) left out", n);
+  const Reconstruction rec =
+      ReadStageModel("densify", options.sparse, options.image_dir, options.holdout);
   if (rec.NumRegisteredImages() < 2)
     Fail("sparse model {} has {} registered images; densify needs at least 2",
          options.sparse.string(), rec.NumRegisteredImages());

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "varsfm/io/colmap_model.h"
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/obj_io.h"
+#include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/util/error.h"
@@ -21,14 +21,9 @@ void TextureOptions::Check() const {
 TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
-  if (!std::filesystem::is_directory(options.sparse))
-    Fail("sparse model folder {} does not exist", options.sparse.string());
-  if (!std::filesystem::is_directory(options.image_dir))
-    Fail("image folder {} does not exist", options.image_dir.string());
+  const Reconstruction rec =
+      ReadStageModel("texture", options.sparse, options.image_dir, options.holdout);
   const TriangleMesh mesh = ReadMeshPly(options.mesh);
-  Reconstruction rec = ReadColmapModel(options.sparse);
-  if (const size_t n = HoldOutImages(&rec, options.holdout))
-    info("texture: {} held-out view(s) left out", n);
   if (rec.NumRegisteredImages() == 0)
     Fail("sparse model {} has no registered images to texture from", options.sparse.string());
 
