@@ -60,8 +60,8 @@ int main(int argc, char** argv) {
     if (!cloud.HasVisibility()) varsfm::AttachVisibility(visibility, rec, &cloud);
     std::printf("%d views %dx%d, %s: %zu dense points in %.1f s\n", options.num_images,
                 options.width, options.height,
-                std::string(varsfm::DenseMethodName(dense.method)).c_str(), cloud.points.size(),
-                timer.Seconds());
+                std::string(varsfm::NameOf(varsfm::kDenseMethodNames, dense.method)).c_str(),
+                cloud.points.size(), timer.Seconds());
     const varsfm::TriangleMesh truth = varsfm::SurfaceMesh(scene.surface);
     const auto seen = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 2);
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;

@@ -162,13 +162,18 @@ void WriteTexturedImage(const fs::path& path, int seed) {
   WriteImage(path, image);
 }
 
+// `images` with three textured PNGs, 0.png to 2.png; returns `images`.
+fs::path WriteThreeImages(const fs::path& images) {
+  fs::create_directories(images);
+  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  return images;
+}
+
 // A link to a photo of the folder is that photo (skipped with a warning naming both); broken
 // links, link loops and a folder linked into itself are skipped with a warning, never an error.
 TEST(ExtractCommand, LinksAreOnePhotoAndBrokenLinksAndLoopsAreSkipped) {
   TempDir dir("extract_links");
-  const fs::path images = dir.path() / "images";
-  fs::create_directories(images);
-  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  const fs::path images = WriteThreeImages(dir.path() / "images");
   fs::create_symlink("1.png", images / "link.png");
   fs::create_symlink("absent.png", images / "broken.png");
   fs::create_symlink("loop2.png", images / "loop1.png");
@@ -224,9 +229,7 @@ TEST(ExtractCommand, AFailedRunLeavesTheWorkspaceAsItWas) {
 // another thread count skips every image.
 TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   TempDir dir("extract_settings");
-  const fs::path images = dir.path() / "images";
-  fs::create_directories(images);
-  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  const fs::path images = WriteThreeImages(dir.path() / "images");
   const fs::path workspace = dir.path() / "ws.db";
   const std::string input = "--images " + ShellQuote(images);
   std::string out;
@@ -262,9 +265,7 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
 // and the next run finds them current.
 TEST(ExtractCommand, FeaturesOfAnotherExtractorVersionAreExtractedAgain) {
   TempDir dir("extract_version");
-  const fs::path images = dir.path() / "images";
-  fs::create_directories(images);
-  for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
+  const fs::path images = WriteThreeImages(dir.path() / "images");
   const fs::path workspace = dir.path() / "ws.db";
   const std::string extract = Extract(workspace, "--images " + ShellQuote(images));
   std::string out;

@@ -74,15 +74,13 @@ struct DensifyStats {
 std::vector<std::pair<image_t, image_t>> SelectDensePairs(
     const Reconstruction& reconstruction, const DenseReconstructionOptions& options);
 
+// The names `--dense-method` takes and summaries give.
 inline constexpr EnumName<DenseMethod> kDenseMethodNames[] = {
     {DenseMethod::kPropagation, "propagation"},
     {DenseMethod::kPatchMatch, "patchmatch"},
     {DenseMethod::kSeeded, "seeded"},
     {DenseMethod::kFill, "fill"},
     {DenseMethod::kSeededFill, "seeded-fill"}};
-inline std::string_view DenseMethodName(DenseMethod method) {
-  return NameOf(kDenseMethodNames, method);
-}
 
 // `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). `visibility`, when
 // given, gets the ids of the images that see each point. Throws varsfm::Error when the model has

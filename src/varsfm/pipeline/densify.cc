@@ -21,7 +21,7 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
   const DensifyStats& st = r.stats;
   const nlohmann::json summary = {
       {"points", r.num_points},
-      {"method", DenseMethodName(r.method)},
+      {"method", NameOf(kDenseMethodNames, r.method)},
       {"depth_maps", st.mvs.num_views},
       {"depths", st.mvs.num_depths},
       {"consistent_depths", st.mvs.num_consistent},

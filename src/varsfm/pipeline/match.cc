@@ -322,7 +322,7 @@ MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check) {
   const int64_t settings = record.Id("match", MatchSettings(options));
   const ImagePairs pairs = PairsToMatch(db, record, settings, all_pairs, summary);
   info("match: {} images, {} {} pairs ({} already verified)", images.size(), all_pairs.size(),
-       MatchStrategyName(summary.strategy), summary.num_skipped);
+       NameOf(kMatchStrategyNames, summary.strategy), summary.num_skipped);
 
   MatchPairs(db, record, settings, pairs, options, summary);
   info("match: {} of {} new pairs verified, {} inlier matches, {:.1f} s", summary.num_verified,

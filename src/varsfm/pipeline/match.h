@@ -39,9 +39,6 @@ inline constexpr EnumName<MatchStrategy> kMatchStrategyNames[] = {
     {MatchStrategy::kSequential, "sequential"},
     {MatchStrategy::kRetrieval, "retrieval"},
     {MatchStrategy::kAuto, "auto"}};
-inline std::string_view MatchStrategyName(MatchStrategy strategy) {
-  return NameOf(kMatchStrategyNames, strategy);
-}
 
 struct MatchOptions {
   std::filesystem::path workspace;  // must exist, with features from `varsfm extract`

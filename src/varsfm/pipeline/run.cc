@@ -88,7 +88,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   summary["seconds"]["extract"] = result.seconds_extract;
   summary["seconds"]["match"] = result.seconds_match;
   summary["seconds"]["map"] = result.seconds_map;
-  summary["matching_strategy"] = std::string(MatchStrategyName(strategy));
+  summary["matching_strategy"] = std::string(NameOf(kMatchStrategyNames, strategy));
   WriteJsonAtomically(summary_path, summary);
 
   // Unconnected images give further models (sparse/1, ...); the later stages use model 0.

@@ -28,7 +28,6 @@ inline constexpr EnumName<RunStage> kRunStageNames[] = {{RunStage::kSparse, "spa
                                                         {RunStage::kDense, "dense"},
                                                         {RunStage::kMesh, "mesh"},
                                                         {RunStage::kTexture, "texture"}};
-inline std::string_view RunStageName(RunStage stage) { return NameOf(kRunStageNames, stage); }
 
 struct RunOptions {
   std::filesystem::path input;   // a folder of photos or a video file
