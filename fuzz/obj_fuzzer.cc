@@ -1,4 +1,4 @@
-// The textured OBJ reader (texture/obj_io.cc): an input is the OBJ and its MTL, cut at
+// The textured OBJ reader (io/obj_io.cc): an input is the OBJ and its MTL, cut at
 // kPartSeparator. The seeds name the material file model.mtl and the atlas page page.png, which
 // is written once, so mutations reach the faces and materials rather than failing to open files.
 #include <opencv2/core.hpp>
