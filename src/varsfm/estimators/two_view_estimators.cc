@@ -31,7 +31,7 @@ template <TwoViewModel kModel>
 void TwoViewEstimator<kModel>::MinimalSolve(const std::vector<int>& sample,
                                             std::vector<Model>* models) const {
   if constexpr (kModel == TwoViewModel::kHomography) {
-    NonMinimalSolve(sample, Model{}, models);  // the four-point DLT is the linear solver
+    NonMinimalSolve(sample, Model::Zero(), models);  // the four-point DLT is the linear solver
   } else {
     std::vector<Eigen::Vector2d> y1, y2;
     Gather(x1, x2, sample, &y1, &y2);
