@@ -25,6 +25,23 @@ TEST(Reconstruction, ExactSceneHasZeroErrorAndConsistentLinks) {
       EXPECT_EQ(rec.image(el.image_id).points2D[el.point2D_idx].point3D_id, id);
 }
 
+// A point added without a colour is grey, never whatever the memory held: an uninitialised
+// colour made `map` without its photos write different points3D.bin bytes from run to run
+// (seen under AddressSanitizer, whose heap differs between runs).
+TEST(Reconstruction, PointAddedWithoutColourIsGrey) {
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 100;
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  ASSERT_FALSE(rec.points3D().empty());
+  for (const auto& [id, point] : rec.points3D()) EXPECT_EQ(point.color, kUncolouredPoint) << id;
+  const Eigen::Matrix<uint8_t, 3, 1> red(255, 0, 0);
+  const TrackElement a = rec.point3D(rec.points3D().begin()->first).track[0];
+  const TrackElement b = rec.point3D(rec.points3D().begin()->first).track[1];
+  rec.DeletePoint3D(rec.points3D().begin()->first);
+  EXPECT_EQ(rec.point3D(rec.AddPoint3D(Eigen::Vector3d::Zero(), {a, b}, red)).color, red);
+}
+
 TEST(Reconstruction, FilteringRemovesOnlyBadObservations) {
   SyntheticOptions o;
   o.num_images = 4;

@@ -25,9 +25,13 @@ struct TrackElement {
   point2D_t point2D_idx = kInvalidPoint2DIdx;
 };
 
+// The colour of a point no photograph was sampled for (map without its photos, a photo that
+// could not be read): mid grey, as the mesh and texture stages show what they cannot colour.
+inline const Eigen::Matrix<uint8_t, 3, 1> kUncolouredPoint{128, 128, 128};
+
 struct Point3D {
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
-  Eigen::Matrix<uint8_t, 3, 1> color = Eigen::Matrix<uint8_t, 3, 1>::Zero();
+  Eigen::Matrix<uint8_t, 3, 1> color = kUncolouredPoint;
   double error = -1.0;  // mean reprojection error (px), -1 when not computed
   std::vector<TrackElement> track;
 };
@@ -73,9 +77,11 @@ class Reconstruction {
   std::vector<image_t> RegisteredImageIds() const;
   size_t NumRegisteredImages() const;
 
-  // Adds a point and links every track element's 2D point to it. Returns its id.
+  // Adds a point and links every track element's 2D point to it. Returns its id. (A default
+  // of `{}` would leave the colour uninitialised: Eigen's fixed-size default constructor does
+  // not set its coefficients.)
   point3D_t AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track,
-                       const Eigen::Matrix<uint8_t, 3, 1>& color = {});
+                       const Eigen::Matrix<uint8_t, 3, 1>& color = kUncolouredPoint);
   void AddObservation(point3D_t point3D_id, const TrackElement& element);
   // Removes one observation; the point goes too when fewer than two remain.
   void DeleteObservation(image_t image_id, point2D_t point2D_idx);
