@@ -4,7 +4,9 @@
 // the true surface that two or more views see.
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
 //                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
-// --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face).
+//                  [--hole-edges 100,0,...]
+// --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
+// --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
@@ -26,6 +28,14 @@ int main(int argc, char** argv) {
     double tolerance = 0.005;
     varsfm::DenseReconstructionOptions dense;  // PatchMatch, the default
     std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
+    std::vector<double> hole_edges = {
+        static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
+    const auto parse_list = [](const std::string& text) {
+      std::vector<double> values;
+      std::stringstream list(text);
+      for (std::string item; std::getline(list, item, ',');) values.push_back(std::stod(item));
+      return values;
+    };
     for (int i = 1; i + 1 < argc; i += 2) {
       const std::string flag = argv[i];
       if (flag == "--images")
@@ -40,12 +50,11 @@ int main(int argc, char** argv) {
         dense.method = varsfm::DenseMethod::kPropagation;
       else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
         dense.method = varsfm::DenseMethod::kPatchMatch;
-      else if (flag == "--edge-factors") {
-        edge_factors.clear();
-        std::stringstream list(argv[i + 1]);
-        for (std::string item; std::getline(list, item, ',');)
-          edge_factors.push_back(std::stod(item));
-      } else
+      else if (flag == "--edge-factors")
+        edge_factors = parse_list(argv[i + 1]);
+      else if (flag == "--hole-edges")
+        hole_edges = parse_list(argv[i + 1]);
+      else
         throw std::runtime_error("unknown option " + flag);
     }
     options.focal_start = 0.8 * options.width;  // the demo's field of view at any width
@@ -75,13 +84,17 @@ int main(int argc, char** argv) {
     std::vector<std::pair<std::string, varsfm::SurfaceOptions>> variants(1);
     variants[0].first = "poisson";
     variants[0].second.method = varsfm::SurfaceMethod::kScreenedPoisson;
-    for (double factor : edge_factors) {
-      varsfm::SurfaceOptions& surface = variants.emplace_back().second;
-      variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4);
-      surface.method = varsfm::SurfaceMethod::kDelaunay;
-      surface.delaunay.max_edge_factor = factor;
-      surface.Check();  // ReconstructSurface expects checked options
-    }
+    for (double factor : edge_factors)
+      for (double holes : hole_edges) {
+        varsfm::SurfaceOptions& surface = variants.emplace_back().second;
+        variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4) +
+                                ", holes up to " + std::to_string(static_cast<int>(holes)) +
+                                " edges";
+        surface.method = varsfm::SurfaceMethod::kDelaunay;
+        surface.delaunay.max_edge_factor = factor;
+        surface.delaunay.hole_filling.max_edges = static_cast<int>(holes);
+        surface.Check();  // ReconstructSurface expects checked options
+      }
     for (const auto& [name, surface] : variants) {
       timer.Restart();
       const varsfm::TriangleMesh mesh = varsfm::ReconstructSurface(cloud, surface);

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <Eigen/Geometry>
 
 #include "support/test_data.h"
@@ -96,6 +97,40 @@ TEST(DelaunaySurface, OpenCapSeenFromAboveDoesNotCloseOverTheOpenSide) {
   }
   EXPECT_LT(facing_away, mesh.faces.size() / 10);
   EXPECT_GT(ComputeEdgeTopology(mesh).boundary_edges, 0u);  // open
+}
+
+TEST(DelaunaySurface, SameBitsOnOneAndTwoThreads) {
+  // Noisy radii (no cospherical degeneracy) and three gaps in the points, which the cut bridges
+  // with long faces; those are cut and the holes they leave filled.
+  PointCloud cloud = SeenSphere(8000, -2, false, 0.01);
+  PointCloud gappy = cloud;
+  gappy.points.clear();
+  gappy.visibility.clear();
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const Eigen::Vector3d u = cloud.points[i].normalized();
+    if (u.dot(Eigen::Vector3d(1, 1, 1).normalized()) > 0.99 ||
+        u.dot(Eigen::Vector3d(-1, 0.5, 0.2).normalized()) > 0.99 ||
+        u.dot(Eigen::Vector3d(0.3, -1, -0.4).normalized()) > 0.99)
+      continue;
+    gappy.points.push_back(cloud.points[i]);
+    gappy.visibility.push_back(cloud.visibility[i]);
+  }
+  cloud = gappy;
+  const double spacing = AverageNearestSpacing(cloud.points);
+  DelaunaySurfaceOptions options;
+  options.max_edge_factor = 2;
+  options.hole_filling.max_edges = 100;
+  TriangleMesh meshes[2];
+  DelaunaySurfaceStats stats[2];
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    meshes[threads - 1] = ReconstructDelaunaySurface(cloud, spacing, options, &stats[threads - 1]);
+  }
+  EXPECT_GT(stats[0].long_faces, 0u);
+  EXPECT_GT(stats[0].holes.filled_loops, 0u);
+  EXPECT_EQ(stats[0].holes.added_faces, stats[1].holes.added_faces);
+  EXPECT_EQ(meshes[0].faces, meshes[1].faces);
+  EXPECT_EQ(meshes[0].vertices, meshes[1].vertices);
 }
 
 TEST(DelaunaySurface, DeterministicAndThroughTheSurfaceStage) {

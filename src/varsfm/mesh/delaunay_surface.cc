@@ -205,6 +205,7 @@ void DelaunaySurfaceOptions::Check() const {
   CheckAtLeast("--max-edge-factor", max_edge_factor, 0);
   CheckInRange("--min-component", min_component_fraction, 0, 1);
   CheckAtLeast("--smoothing", smoothing_iterations, 0);
+  hole_filling.Check();
 }
 
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
@@ -236,14 +237,17 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   TriangleMesh mesh = ExtractSurface(tets, inside);
   s.long_faces = RemoveLongFaces(options.max_edge_factor, &mesh);
   s.removed_faces = RemoveSmallComponents(options.min_component_fraction, &mesh);
+  s.holes = FillSmallHoles(options.hole_filling, &mesh);
   RemoveUnreferencedVertices(&mesh);
   TaubinSmooth(options.smoothing_iterations, &mesh);
   s.seconds_cut = timer.Seconds();
   spdlog::info(
       "surface: Delaunay of {} merged points ({} cells, {:.1f} s), {} rays ({:.1f} s), {} inside "
-      "cells, {} faces ({} long and {} in small parts removed; cut {:.1f} s)",
+      "cells, {} faces ({} long and {} in small parts removed; {} of {} boundary loops filled "
+      "with {} faces; cut {:.1f} s)",
       s.merged_points, s.cells, s.seconds_tetrahedra, s.rays, s.seconds_rays, s.inside_cells,
-      mesh.faces.size(), s.long_faces, s.removed_faces, s.seconds_cut);
+      mesh.faces.size(), s.long_faces, s.removed_faces, s.holes.filled_loops, s.holes.loops,
+      s.holes.added_faces, s.seconds_cut);
   if (mesh.faces.empty()) Fail("the visibility cut labelled no tetrahedron inside: no surface");
   return mesh;
 }

@@ -12,6 +12,7 @@
 // smoothed) data point.
 #include <cstddef>
 
+#include "varsfm/mesh/hole_filling.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/triangle_mesh.h"
 
@@ -33,7 +34,8 @@ struct DelaunaySurfaceOptions {
   // circumspheres of its two tetrahedra.
   double quality_weight = 1.0;
   // Faces with an edge longer than this many times the surface's median edge length are
-  // removed: where the cut closes the inside volume along the convex hull or across space
+  // removed (the small holes they leave are filled, hole_filling below): where the cut
+  // closes the inside volume along the convex hull or across space
   // no point sampled (behind a facade, under a sheet seen from one side), it does so with long
   // facets between far-apart points, which no camera saw and which lie off the true surface.
   // 0 keeps them.
@@ -44,6 +46,9 @@ struct DelaunaySurfaceOptions {
   // Connected parts of the surface with fewer faces than this fraction of the whole are
   // removed (floaters: a few tetrahedra labelled inside around a cluster of outliers).
   double min_component_fraction = 0.005;
+  // The holes the cut and the long-face removal leave (hole_filling.h): loops of up to 100
+  // edges, and no longer than 100 median edges, are closed.
+  HoleFillingOptions hole_filling{.max_edges = 100};
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
@@ -55,6 +60,7 @@ struct DelaunaySurfaceStats {
   size_t inside_cells = 0;
   size_t long_faces = 0;     // removed for an edge above max_edge_factor x the median
   size_t removed_faces = 0;  // in small components
+  HoleFillingStats holes;
   double seconds_tetrahedra = 0, seconds_rays = 0, seconds_cut = 0;
 };
 

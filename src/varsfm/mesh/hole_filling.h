@@ -1,0 +1,37 @@
+#pragma once
+// Closing the small holes of a surface: boundary loops short against the surface's edge length
+// are triangulated over their own vertices (Liepa, "Filling holes in meshes", SGP 2003, through
+// CGAL's triangulate_hole_polyline: the triangulation of the loop that minimises the largest
+// dihedral angle, with the faces beside the loop, then the area). The visibility cut leaves such
+// holes where the dense points are missing or too noisy on a surface the cameras do see (fur,
+// weak texture, specular spots); long loops, the scene's open edge against the sky or the
+// ground's end, stay open.
+#include <cstddef>
+
+#include "varsfm/scene/triangle_mesh.h"
+
+namespace varsfm {
+
+struct HoleFillingOptions {
+  // A loop is filled when it has at most max_edges edges and its perimeter is at most
+  // max_edges x the surface's median edge length (so a loop of long edges, which spans more
+  // than its count suggests, stays open). 0 fills nothing.
+  int max_edges = 0;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
+};
+
+struct HoleFillingStats {
+  size_t loops = 0;         // boundary loops (through manifold boundary vertices)
+  size_t filled_loops = 0;  // of them, closed
+  size_t added_faces = 0;
+};
+
+// Fills the loops options allow, never the longest loop of a connected part (its outer edge:
+// filling it would lay a second sheet over an open surface). Boundary edges through a vertex
+// with more than one boundary loop are left as they are. Faces are added counter-clockwise like
+// the faces beside the loop; no vertex is added. Deterministic. `options` must have passed
+// Check() (DelaunaySurfaceOptions::Check checks them where the mesh stage starts).
+HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh* mesh);
+
+}  // namespace varsfm

@@ -1,0 +1,124 @@
+// Hole filling on flat grids, where the filled surface is known exactly.
+#include "varsfm/mesh/hole_filling.h"
+
+#include <array>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include "varsfm/mesh/mesh_topology.h"
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// An n x n grid of unit squares in the plane z = 0, two counter-clockwise triangles (seen from
+// +z) per square, without the squares whose lower-left corner (i, j) `removed` says.
+template <typename Removed>
+TriangleMesh Grid(int n, Removed removed) {
+  TriangleMesh mesh;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.vertices.emplace_back(i, j, 0);
+  const auto id = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (removed(i, j)) continue;
+      mesh.faces.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.faces.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  return mesh;
+}
+
+double ZOfNormal(const TriangleMesh& mesh, const Eigen::Vector3i& f) {
+  return (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+      .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]])
+      .z();
+}
+
+// FillSmallHoles with max_edges: its loops, filled loops and added faces.
+using Counts = std::array<size_t, 3>;
+Counts Fill(int max_edges, TriangleMesh* mesh) {
+  HoleFillingOptions options;
+  options.max_edges = max_edges;
+  const HoleFillingStats stats = FillSmallHoles(options, mesh);
+  return {stats.loops, stats.filled_loops, stats.added_faces};
+}
+
+// The area of the faces from `first` on; -1 when one of them is not counter-clockwise from +z
+// like the grid.
+double AreaFacingUp(const TriangleMesh& mesh, size_t first) {
+  double area = 0;
+  for (size_t f = first; f < mesh.faces.size(); ++f) {
+    const double z = ZOfNormal(mesh, mesh.faces[f]);
+    if (!(z > 0)) return -1;
+    area += z / 2;
+  }
+  return area;
+}
+
+TEST(HoleFilling, ClosesASmallHoleFlatAndFacingLikeItsSurrounding) {
+  // A 2 x 3 block of squares missing: a loop of 10 unit edges; the grid's outer loop has 80.
+  TriangleMesh mesh = Grid(20, [](int i, int j) { return i >= 8 && i < 10 && j >= 5 && j < 8; });
+  const size_t before = mesh.faces.size();
+  // A polygon of 10 vertices takes 8 triangles; they cover the 6 missing squares exactly.
+  EXPECT_EQ(Fill(12, &mesh), (Counts{2, 1, 8}));  // loops, filled, faces added
+  ASSERT_EQ(mesh.faces.size(), before + 8);
+  EXPECT_NEAR(AreaFacingUp(mesh, before), 6.0, 1e-12);
+  const EdgeTopology topology = ComputeEdgeTopology(mesh);
+  EXPECT_EQ(topology.boundary_edges, 80u);  // only the outer edge is left
+  EXPECT_EQ(topology.non_manifold_edges, 0u);
+}
+
+TEST(HoleFilling, LeavesLoopsAboveTheLimitAndTheOuterEdgeOpen) {
+  // A 4 x 4 hole (16 edges) above a limit of 12; a 3 x 3 grid's outer edge (12 edges) under it.
+  TriangleMesh big = Grid(20, [](int i, int j) { return i >= 4 && i < 8 && j >= 4 && j < 8; });
+  TriangleMesh small = Grid(3, [](int, int) { return false; });
+  HoleFillingOptions options;
+  options.max_edges = 12;
+  for (TriangleMesh* mesh : {&big, &small}) {
+    const size_t faces = mesh->faces.size();
+    const HoleFillingStats stats = FillSmallHoles(options, mesh);
+    EXPECT_EQ(stats.filled_loops, 0u);
+    EXPECT_EQ(mesh->faces.size(), faces);
+  }
+  EXPECT_EQ(FillSmallHoles(options, &small).loops, 1u);
+  // With 16 allowed, the hole closes (4 x 4 squares = 16 area) and the outer edge still not.
+  options.max_edges = 16;
+  const HoleFillingStats stats = FillSmallHoles(options, &big);
+  EXPECT_EQ(stats.filled_loops, 1u);
+  EXPECT_EQ(stats.added_faces, 14u);
+  EXPECT_EQ(ComputeEdgeTopology(big).boundary_edges, 80u);
+}
+
+TEST(HoleFilling, LongEdgesCountAgainstTheLimit) {
+  // The same 10-edge loop on a grid stretched 3x along x around the hole's columns: its
+  // perimeter is more than 12 median edges though it has 10 edges, so it stays open.
+  TriangleMesh mesh = Grid(20, [](int i, int j) { return i >= 8 && i < 10 && j >= 5 && j < 8; });
+  for (Eigen::Vector3d& v : mesh.vertices)
+    if (v.x() >= 8 && v.x() <= 10 && v.y() >= 5 && v.y() <= 8) v.y() = 5 + 4 * (v.y() - 5);
+  HoleFillingOptions options;
+  options.max_edges = 12;
+  EXPECT_EQ(FillSmallHoles(options, &mesh).filled_loops, 0u);
+}
+
+TEST(HoleFilling, SplitsHolesThatMeetAtAVertex) {
+  // Two missing squares touching at the corner (6, 6): that vertex has two boundary edges out
+  // and two in; the walk must close two 4-edge loops there, each filled with 2 triangles.
+  TriangleMesh mesh =
+      Grid(12, [](int i, int j) { return (i == 5 && j == 5) || (i == 6 && j == 6); });
+  const size_t before = mesh.faces.size();
+  EXPECT_EQ(Fill(4, &mesh), (Counts{3, 2, 4}));
+  EXPECT_NEAR(AreaFacingUp(mesh, before), 2.0, 1e-12);
+  const EdgeTopology topology = ComputeEdgeTopology(mesh);
+  EXPECT_EQ(topology.boundary_edges, 48u);
+  EXPECT_EQ(topology.non_manifold_edges, 0u);
+}
+
+TEST(HoleFilling, NegativeLimitIsAnOptionError) {
+  HoleFillingOptions options;
+  options.max_edges = -1;
+  EXPECT_THROW(options.Check(), Error);
+}
+
+}  // namespace
+}  // namespace varsfm
