@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <numeric>
 
 #include <Eigen/Geometry>
 
@@ -176,23 +175,13 @@ size_t RemoveLongFaces(double factor, TriangleMesh* mesh) {
 // Removes the connected parts (faces sharing vertices) with fewer than min_fraction of the
 // faces; returns how many faces went.
 size_t RemoveSmallComponents(double min_fraction, TriangleMesh* mesh) {
-  std::vector<uint32_t> parent(mesh->vertices.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Eigen::Vector3i& f : mesh->faces)
-    for (int k = 1; k < 3; ++k) {
-      const uint32_t a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<size_t> faces(parent.size(), 0);
-  for (const Eigen::Vector3i& f : mesh->faces) ++faces[find(f[0])];
+  const std::vector<uint32_t> root = ComponentRoots(*mesh);
+  std::vector<size_t> faces(root.size(), 0);
+  for (const Eigen::Vector3i& f : mesh->faces) ++faces[root[f[0]]];
   const double min_faces = min_fraction * mesh->faces.size();
   const size_t before = mesh->faces.size();
   std::erase_if(mesh->faces,
-                [&](const Eigen::Vector3i& f) { return faces[find(f[0])] < min_faces; });
+                [&](const Eigen::Vector3i& f) { return faces[root[f[0]]] < min_faces; });
   return before - mesh->faces.size();
 }
 

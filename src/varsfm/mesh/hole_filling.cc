@@ -4,9 +4,9 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
-#include <numeric>
 #include <vector>
 
+#include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/util/option_check.h"
 
 namespace varsfm {
@@ -81,23 +81,6 @@ std::vector<std::vector<HalfEdge>> BoundaryLoops(const std::vector<HalfEdge>& bo
     }
   }
   return loops;
-}
-
-// Per vertex: the smallest vertex index of its connected part (faces sharing vertices).
-std::vector<uint32_t> ComponentRoots(const TriangleMesh& mesh) {
-  std::vector<uint32_t> parent(mesh.vertices.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto find = [&](uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (const Eigen::Vector3i& f : mesh.faces)
-    for (int k = 1; k < 3; ++k) {
-      const uint32_t a = find(f[0]), b = find(f[k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = find(v);
-  return parent;
 }
 
 double Perimeter(const TriangleMesh& mesh, const std::vector<HalfEdge>& loop) {

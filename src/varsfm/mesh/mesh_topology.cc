@@ -1,6 +1,7 @@
 #include "varsfm/mesh/mesh_topology.h"
 
 #include <algorithm>
+#include <numeric>
 #include <unordered_map>
 
 namespace varsfm {
@@ -42,6 +43,22 @@ void RemoveUnreferencedVertices(TriangleMesh* mesh) {
   for (Eigen::Vector3i& f : mesh->faces) {
     for (int k = 0; k < 3; ++k) f[k] = remap[f[k]];
   }
+}
+
+std::vector<uint32_t> ComponentRoots(const TriangleMesh& mesh) {
+  std::vector<uint32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  const auto find = [&](uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Eigen::Vector3i& f : mesh.faces)
+    for (int k = 1; k < 3; ++k) {
+      const uint32_t a = find(f[0]), b = find(f[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  for (uint32_t v = 0; v < parent.size(); ++v) parent[v] = find(v);
+  return parent;
 }
 
 }  // namespace varsfm

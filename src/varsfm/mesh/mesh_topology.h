@@ -1,6 +1,9 @@
 #pragma once
-// The edge topology of a triangle mesh (is it manifold, is it closed) and its clean-up.
+// The topology of a triangle mesh (is it manifold, is it closed, its connected parts) and its
+// clean-up.
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "varsfm/scene/triangle_mesh.h"
 
@@ -15,6 +18,10 @@ struct EdgeTopology {
 // Counts undirected edges by how many faces use them: a manifold (possibly open) surface has
 // non_manifold_edges == 0; a closed one also has boundary_edges == 0.
 EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh);
+
+// Per vertex: the smallest vertex index of its connected part (faces sharing vertices; a vertex
+// in no face is its own part). Union-find with path halving.
+std::vector<uint32_t> ComponentRoots(const TriangleMesh& mesh);
 
 // Drops vertices no face references and renumbers the faces.
 void RemoveUnreferencedVertices(TriangleMesh* mesh);
