@@ -100,6 +100,18 @@ TEST(ReportData, GathersTheModelWorkspaceAndPhotos) {
   EXPECT_GT(data.glb_file_bytes, 0u);
 }
 
+TEST(ReportData, ReadingTheWorkspaceLeavesNoLogBesideIt) {
+  TempDir tmp("report_wal");
+  WriteSyntheticOutput(tmp.path());
+  const std::filesystem::path database = tmp.path() / "workspace.db";
+  ASSERT_TRUE(std::filesystem::exists(database));
+  ASSERT_FALSE(std::filesystem::exists(tmp.path() / "workspace.db-wal"));
+  const ReportData data = CollectReportData(tmp.path(), {});
+  EXPECT_EQ(data.images.size(), 6u);
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / "workspace.db-wal"));
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / "workspace.db-shm"));
+}
+
 TEST(ReportData, AnImageInAnotherModelIsSaidToBeThere) {
   TempDir tmp("report_data_models");
   WriteSyntheticOutput(tmp.path());

@@ -32,7 +32,11 @@ WorkspaceTables ReadWorkspaceTables(const std::filesystem::path& database) {
   if (!std::filesystem::is_regular_file(database))
     Fail("workspace {} does not exist", database.string());
   sqlite3* db = nullptr;
-  if (sqlite3_open_v2(database.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
+  // Only read, but opened read-write where the file allows it (SQLite falls back to read-only
+  // where it does not): a workspace is in WAL mode, and a read-only connection that is the last
+  // to close leaves the -wal and -shm files it created beside the database, where the user sees
+  // them as if a run had been cut off.
+  if (sqlite3_open_v2(database.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     sqlite3_close_v2(db);
     Fail("{}: cannot open the database", database.string());
   }
