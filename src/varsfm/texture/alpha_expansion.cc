@@ -2,39 +2,10 @@
 
 #include <cmath>
 
-// Boost.Graph's edge iterators (boost::optional inside) trip GCC's -Wmaybe-uninitialized, a
-// known false positive in headers we do not own.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include <boost/graph/adjacency_list.hpp>
-#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
+#include "varsfm/mesh/graph_cut.h"
 
 namespace varsfm {
 namespace {
-
-using Traits = boost::adjacency_list_traits<boost::vecS, boost::vecS, boost::directedS>;
-using Graph = boost::adjacency_list<
-    boost::vecS, boost::vecS, boost::directedS,
-    boost::property<boost::vertex_index_t, long,
-                    boost::property<boost::vertex_color_t, boost::default_color_type,
-                                    boost::property<boost::vertex_distance_t, long,
-                                                    boost::property<boost::vertex_predecessor_t,
-                                                                    Traits::edge_descriptor>>>>,
-    boost::property<
-        boost::edge_capacity_t, double,
-        boost::property<boost::edge_residual_capacity_t, double,
-                        boost::property<boost::edge_reverse_t, Traits::edge_descriptor>>>>;
-
-// Adds u -> v with `capacity` and its reverse edge of capacity 0, as the max-flow requires.
-void AddEdge(Graph& g, size_t u, size_t v, double capacity) {
-  auto capacity_map = boost::get(boost::edge_capacity, g);
-  auto reverse_map = boost::get(boost::edge_reverse, g);
-  const auto forward = boost::add_edge(u, v, g).first;
-  const auto backward = boost::add_edge(v, u, g).first;
-  capacity_map[forward] = capacity;
-  capacity_map[backward] = 0;
-  reverse_map[forward] = backward;
-  reverse_map[backward] = forward;
-}
 
 // One alpha-expansion move. Binary variable x_n per movable node: 0 keeps its label, 1 takes
 // alpha. A pairwise term E(x_p, x_q) with values A = E(0,0), B = E(0,1), C = E(1,0), D = E(1,1)
@@ -54,8 +25,7 @@ bool ExpandOne(const PottsProblem& problem, int alpha, std::vector<int>* labels_
   }
   if (movable.empty()) return false;
   const double w = problem.potts;
-  Graph g(movable.size() + 2);
-  const size_t source = movable.size(), sink = movable.size() + 1;
+  MinCut cut(movable.size());
   std::vector<double> cost_keep(movable.size()), cost_alpha(movable.size());
   for (size_t k = 0; k < movable.size(); ++k) {
     const size_t i = movable[k];
@@ -70,23 +40,22 @@ bool ExpandOne(const PottsProblem& problem, int alpha, std::vector<int>* labels_
         const double a = labels[i] != labels[j] ? w : 0, b = w, c = w, d = 0;
         cost_alpha[k] += c - a;
         cost_alpha[vertex_of[j]] += d - c;
-        AddEdge(g, k, vertex_of[j], b + c - a - d);
+        cut.AddEdge(k, vertex_of[j], b + c - a - d, 0);
       }
     }
   }
   for (size_t k = 0; k < movable.size(); ++k) {
     const double diff = cost_alpha[k] - cost_keep[k];
+    // Source side keeps the label: a positive difference is paid when k takes alpha.
     if (diff > 0)
-      AddEdge(g, source, k, diff);  // cut when k takes alpha
+      cut.SetTerminalWeights(k, diff, 0);
     else if (diff < 0)
-      AddEdge(g, k, sink, -diff);  // cut when k keeps its label
+      cut.SetTerminalWeights(k, 0, -diff);
   }
-  boost::boykov_kolmogorov_max_flow(g, source, sink);
-  // Black: the source side (vertices reachable from the source in the residual graph).
-  const auto colour = boost::get(boost::vertex_color, g);
+  const std::vector<bool> keeps = cut.Solve();
   bool changed = false;
   for (size_t k = 0; k < movable.size(); ++k) {
-    if (colour[k] != boost::black_color) {
+    if (!keeps[k]) {
       labels[movable[k]] = alpha;
       changed = true;
     }
