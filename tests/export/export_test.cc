@@ -11,6 +11,7 @@
 #include "varsfm/pipeline/export.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/new_folder.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -141,7 +142,7 @@ TEST(NerfstudioExport, WritesTransformsPhotosAndPoints) {
 TEST(ExportOptions, CheckRefusesBadValues) {
   TempDir tmp("export_options");
   ExportOptions options;
-  EXPECT_THROW(options.Check(), Error);  // no model
+  EXPECT_THROW(options.Check(), OptionError);  // no model
   options.model = tmp.path() / "missing";
   options.output = tmp.path() / "out";
   EXPECT_THROW(options.Check(), Error);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -90,7 +91,7 @@ TEST(MeshQuality, LimitsAreChecked) {
   MeshQualityLimits limits;
   EXPECT_NO_THROW(limits.Check());
   limits.max_relative_distance = 0;
-  EXPECT_THROW(limits.Check(), Error);
+  EXPECT_THROW(limits.Check(), OptionError);
 }
 
 }  // namespace

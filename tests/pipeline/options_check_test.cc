@@ -10,7 +10,9 @@
 #include "support/bad_option_values.h"
 #include "varsfm/pipeline/demo.h"
 #include "varsfm/pipeline/evaluate.h"
+#include "varsfm/pipeline/export.h"
 #include "varsfm/pipeline/render.h"
+#include "varsfm/pipeline/report.h"
 #include "varsfm/pipeline/run.h"
 #include "varsfm/util/option_check.h"
 
@@ -113,7 +115,13 @@ TEST(OptionsCheck, Mesh) {
            {"--merge-spacing", [](auto& o) { o.surface.delaunay.merge_spacing = 0; }},
            {"--sigma", [](auto& o) { o.surface.delaunay.sigma = kNan; }},
            {"--min-component", [](auto& o) { o.surface.delaunay.min_component_fraction = 2; }},
-           {"--smoothing", [](auto& o) { o.surface.delaunay.smoothing_iterations = -1; }}});
+           {"--smoothing", [](auto& o) { o.surface.delaunay.smoothing_iterations = -1; }},
+           {"quality.max_relative_distance",
+            [](auto& o) { o.surface.quality.max_relative_distance = 0; }},
+           {"quality.max_relative_distance",
+            [](auto& o) { o.surface.quality.max_relative_distance = kNan; }},
+           {"quality.min_faces_per_point",
+            [](auto& o) { o.surface.quality.min_faces_per_point = 1.5; }}});
 }
 
 TEST(OptionsCheck, Texture) {
@@ -173,6 +181,27 @@ TEST(OptionsCheck, Demo) {
            {"zoom", [](auto& o) { o.scene.zoom = kNan; }},
            {"k1", [](auto& o) { o.scene.k1 = kInf; }},
            {"--threads", [](auto& o) { o.run.map.mapper.num_threads = -1; }}});
+}
+
+TEST(OptionsCheck, Report) {
+  ExpectEachRejected<ReportOptions>(
+      {.output = "OUT"},
+      {{"output", [](auto& o) { o.output.clear(); }},
+       {"--max-points", [](auto& o) { o.data.max_view_points = 0; }},
+       {"--thumbnail-width", [](auto& o) { o.data.thumbnail_width = 8; }},
+       {"--thumbnail-width", [](auto& o) { o.data.thumbnail_width = 2048; }},
+       {"thumbnail_quality", [](auto& o) { o.data.thumbnail_quality = 0; }},
+       {"model.max_faces", [](auto& o) { o.data.model.max_faces = 0; }},
+       {"model.max_texture_size", [](auto& o) { o.data.model.max_texture_size = 0; }},
+       {"model.jpeg_quality", [](auto& o) { o.data.model.jpeg_quality = 101; }}});
+}
+
+// Export checks that its folders exist too: the valid options name this test's working folder
+// as the model and a folder that is not there as the output.
+TEST(OptionsCheck, Export) {
+  ExpectEachRejected<ExportOptions>(
+      {.model = ".", .output = "varsfm-options-check-export-not-created"},
+      {{"model", [](auto& o) { o.model.clear(); }}, {"output", [](auto& o) { o.output.clear(); }}});
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "varsfm/report/svg_chart.h"
 #include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -280,10 +281,11 @@ TEST(Report, WithoutThreeJsThePageSaysWhatToInstall) {
 }
 
 TEST(Report, OptionsAreChecked) {
-  EXPECT_THROW(ReportOptions{}.Check(), Error);
+  EXPECT_THROW(ReportOptions{}.Check(), OptionError);
   ReportOptions options{.output = "x"};
+  EXPECT_NO_THROW(options.Check());
   options.data.thumbnail_width = 4;
-  EXPECT_THROW(options.Check(), Error);
+  EXPECT_THROW(options.Check(), OptionError);
 }
 
 }  // namespace

@@ -53,6 +53,20 @@ TEST(OptionCheck, RejectsNanAndInfinityWhateverTheBounds) {
             "--ratio: expected a number > 0, got nan");
 }
 
+TEST(OptionCheck, NamedRangesAreTheirGeneralChecks) {
+  EXPECT_EQ(MessageOf([] { CheckPositive("--sigma", 0.0); }),
+            "--sigma: expected a number > 0, got 0");
+  EXPECT_EQ(MessageOf([] { CheckPositive("--sigma", 1e-300); }), "");
+  EXPECT_EQ(MessageOf([] { CheckNonNegative("--smoothing", -1); }),
+            "--smoothing: expected an integer >= 0, got -1");
+  EXPECT_EQ(MessageOf([] { CheckNonNegative("--smoothing", 0); }), "");
+  EXPECT_EQ(MessageOf([] { CheckFraction("--min-component", 1.5); }),
+            "--min-component: expected a number in [0, 1], got 1.5");
+  EXPECT_EQ(MessageOf([] { CheckFraction("--min-component", 0.0); }), "");
+  EXPECT_EQ(MessageOf([] { CheckFraction("--min-component", 1.0); }), "");
+  EXPECT_NE(MessageOf([] { CheckFraction("--min-component", kNan); }), "");
+}
+
 TEST(OptionCheck, OptionErrorIsAVarsfmError) { EXPECT_THROW(CheckAtLeast("x", -1, 0), Error); }
 
 }  // namespace

@@ -428,11 +428,11 @@ void DenseReconstructionOptions::Check() const {
   CheckAtLeast("--max-image-size", max_image_size, 16);
   propagation.Check();
   CheckInRange("min_point_angle_deg", min_point_angle_deg, 0, 180);
-  CheckGreaterThan("max_reprojection_error", max_reprojection_error, 0);
-  CheckAtLeast("fusion_depth_tolerance", fusion_depth_tolerance, 0);
+  CheckPositive("max_reprojection_error", max_reprojection_error);
+  CheckNonNegative("fusion_depth_tolerance", fusion_depth_tolerance);
   CheckAtLeast("min_views", min_views, 2);
   CheckAtLeast("normal_neighbors", normal_neighbors, 3);
-  CheckAtLeast("--threads", num_threads, 0);
+  CheckNonNegative("--threads", num_threads);
 }
 
 }  // namespace varsfm

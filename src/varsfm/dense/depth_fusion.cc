@@ -163,8 +163,8 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
 }
 
 void DepthFusionOptions::Check() const {
-  CheckGreaterThan("fusion max_reprojection_error", max_reprojection_error, 0);
-  CheckGreaterThan("fusion max_depth_difference", max_depth_difference, 0);
+  CheckPositive("fusion max_reprojection_error", max_reprojection_error);
+  CheckPositive("fusion max_depth_difference", max_depth_difference);
   CheckInRange("fusion max_normal_angle_deg", max_normal_angle_deg, 0.0, 180.0);
   CheckInRange("--dense-min-consistent", min_consistent_views, 0, 64);
   CheckInRange("--dense-min-views", min_fused_views, 1, 64);

@@ -201,9 +201,9 @@ std::vector<QuasiDenseMatch> PropagateMatches(const cv::Mat& gray1, const cv::Ma
 void PropagationOptions::Check() const {
   CheckAtLeast("window_radius", window_radius, 1);
   CheckInRange("--min-zncc", min_zncc, -1, 1);
-  CheckAtLeast("min_gradient", min_gradient, 0);
-  CheckAtLeast("min_window_std", min_window_std, 0);
-  CheckGreaterThan("max_epipolar_distance", max_epipolar_distance, 0);
+  CheckNonNegative("min_gradient", min_gradient);
+  CheckNonNegative("min_window_std", min_window_std);
+  CheckPositive("max_epipolar_distance", max_epipolar_distance);
 }
 
 }  // namespace varsfm

@@ -512,16 +512,16 @@ DepthMap RefineDepthMapGeometrically(const std::vector<PatchMatchView>& views, u
 void PatchMatchOptions::Check() const {
   CheckInRange("patchmatch window_step", window_step, 1, 7);
   CheckInRange("patchmatch window_radius", window_radius, window_step, 7 * window_step);
-  CheckGreaterThan("patchmatch sigma_color", sigma_color, 0);
-  CheckGreaterThan("patchmatch sigma_spatial", sigma_spatial, 0);
+  CheckPositive("patchmatch sigma_color", sigma_color);
+  CheckPositive("patchmatch sigma_spatial", sigma_spatial);
   CheckInRange("--dense-iterations", num_iterations, 0, 50);
   CheckInRange("--dense-levels", num_levels, 1, 4);
   CheckInRange("--dense-geometric-iterations", num_geometric_iterations, 0, 50);
-  CheckAtLeast("patchmatch geometric_weight", geometric_weight, 0);
-  CheckGreaterThan("patchmatch geometric_max_error", geometric_max_error, 0);
+  CheckNonNegative("patchmatch geometric_weight", geometric_weight);
+  CheckPositive("patchmatch geometric_max_error", geometric_max_error);
   CheckInRange("patchmatch num_best_views", num_best_views, 1, kMaxSources);
   CheckInRange("patchmatch max_cost", max_cost, 0.0, 2.0);
-  CheckAtLeast("patchmatch min_ncc_variance", min_ncc_variance, 0);
+  CheckNonNegative("patchmatch min_ncc_variance", min_ncc_variance);
 }
 
 }  // namespace varsfm

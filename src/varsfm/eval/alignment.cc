@@ -105,7 +105,7 @@ AlignmentResult AlignSimilarity(const std::vector<Eigen::Vector3d>& source,
 }
 
 void AlignmentOptions::Check() const {
-  CheckAtLeast("--inlier-threshold", inlier_threshold, 0);
+  CheckNonNegative("--inlier-threshold", inlier_threshold);
   CheckAtLeast("max_trials", max_trials, 1);
 }
 

@@ -94,8 +94,8 @@ std::vector<Eigen::Vector3d> SampleSurface(const TriangleMesh& mesh, double spac
 }
 
 void SurfaceScoreOptions::Check() const {
-  CheckGreaterThan("tolerance", tolerance, 0);
-  CheckAtLeast("sample_spacing", sample_spacing, 0);
+  CheckPositive("tolerance", tolerance);
+  CheckNonNegative("sample_spacing", sample_spacing);
 }
 
 SurfaceScore ScoreSurface(const TriangleMesh& reconstruction, const TriangleMesh& truth,

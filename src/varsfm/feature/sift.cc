@@ -107,8 +107,8 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
 void SiftOptions::Check() const {
   CheckAtLeast("--max-features", max_features, 1);
   CheckAtLeast("--max-image-size", max_image_size, 16);
-  CheckGreaterThan("--contrast-threshold", contrast_threshold, 0);
-  CheckGreaterThan("edge_threshold", edge_threshold, 0);
+  CheckPositive("--contrast-threshold", contrast_threshold);
+  CheckPositive("edge_threshold", edge_threshold);
 }
 
 }  // namespace varsfm

@@ -208,13 +208,13 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
 }
 
 void KeyframeOptions::Check() const {
-  CheckAtLeast("blur_ratio", blur_ratio, 0);
-  CheckAtLeast("blur_frames_before", blur_frames_before, 0);
-  CheckAtLeast("blur_frames_after", blur_frames_after, 0);
-  CheckAtLeast("min_motion", min_motion, 0);
-  CheckInRange("min_tracked", min_tracked, 0, 1);
+  CheckNonNegative("blur_ratio", blur_ratio);
+  CheckNonNegative("blur_frames_before", blur_frames_before);
+  CheckNonNegative("blur_frames_after", blur_frames_after);
+  CheckNonNegative("min_motion", min_motion);
+  CheckFraction("min_tracked", min_tracked);
   CheckAtLeast("featureless_interval", featureless_interval, 1);
-  CheckAtLeast("--max-frames", max_frames, 0);
+  CheckNonNegative("--max-frames", max_frames);
   CheckAtLeast("analysis_size", analysis_size, 16);
   CheckInRange("jpeg_quality", jpeg_quality, 1, 100);
 }

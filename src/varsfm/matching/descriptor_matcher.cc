@@ -69,7 +69,7 @@ FeatureMatches MatchDescriptors(const FeatureDescriptors& descriptors1,
 
 void DescriptorMatchOptions::Check() const {
   CheckInHalfOpenRange("--ratio", max_ratio, 0, 1);
-  CheckGreaterThan("max_distance", max_distance, 0);
+  CheckPositive("max_distance", max_distance);
 }
 
 }  // namespace varsfm

@@ -115,11 +115,11 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
 }
 
 void VerificationOptions::Check() const {
-  CheckGreaterThan("--max-error", max_error, 0);
+  CheckPositive("--max-error", max_error);
   CheckAtLeast("--min-inliers", min_num_inliers, 1);
   CheckInHalfOpenRange("confidence", confidence, 0, 1);
   CheckAtLeast("max_num_trials", max_num_trials, 1);
-  CheckInRange("max_H_inlier_ratio", max_H_inlier_ratio, 0, 1);
+  CheckFraction("max_H_inlier_ratio", max_H_inlier_ratio);
 }
 
 }  // namespace varsfm

@@ -30,7 +30,7 @@ std::vector<uint32_t> TopK(const std::vector<float>& scores, size_t centre, size
 
 void RetrievalOptions::Check() const {
   CheckAtLeast("--retrieval-neighbors", num_neighbors, 1);
-  CheckAtLeast("--query-expansion", query_expansion, 0);
+  CheckNonNegative("--query-expansion", query_expansion);
 }
 
 RetrievalIndex::RetrievalIndex(const std::vector<std::vector<int>>& words, int num_words,

@@ -188,12 +188,12 @@ size_t RemoveSmallComponents(double min_fraction, TriangleMesh* mesh) {
 }  // namespace
 
 void DelaunaySurfaceOptions::Check() const {
-  CheckGreaterThan("--merge-spacing", merge_spacing, 0);
-  CheckGreaterThan("--sigma", sigma, 0);
-  CheckAtLeast("--quality-weight", quality_weight, 0);
-  CheckAtLeast("--max-edge-factor", max_edge_factor, 0);
-  CheckInRange("--min-component", min_component_fraction, 0, 1);
-  CheckAtLeast("--smoothing", smoothing_iterations, 0);
+  CheckPositive("--merge-spacing", merge_spacing);
+  CheckPositive("--sigma", sigma);
+  CheckNonNegative("--quality-weight", quality_weight);
+  CheckNonNegative("--max-edge-factor", max_edge_factor);
+  CheckFraction("--min-component", min_component_fraction);
+  CheckNonNegative("--smoothing", smoothing_iterations);
   hole_filling.Check();
 }
 

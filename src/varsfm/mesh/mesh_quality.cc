@@ -6,6 +6,7 @@
 #include <open3d/geometry/KDTreeFlann.h>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -26,11 +27,8 @@ double Percentile(std::vector<double> values, double fraction) {
 }  // namespace
 
 void MeshQualityLimits::Check() const {
-  if (!(max_relative_distance > 0 && max_relative_distance <= 1))
-    Fail("mesh check: the largest relative distance must be in (0, 1], not {}",
-         max_relative_distance);
-  if (!(min_faces_per_point >= 0 && min_faces_per_point <= 1))
-    Fail("mesh check: the faces per point must be in [0, 1], not {}", min_faces_per_point);
+  CheckInHalfOpenRange("quality.max_relative_distance", max_relative_distance, 0, 1);
+  CheckFraction("quality.min_faces_per_point", min_faces_per_point);
 }
 
 double RobustExtent(const std::vector<Eigen::Vector3d>& points) {

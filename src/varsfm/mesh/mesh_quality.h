@@ -31,7 +31,7 @@ struct MeshQualityLimits {
   // A surface resolving the points at k times their spacing has about 2 N / k^2 faces (a
   // triangulation of N vertices has about 2 N faces); requiring k <= 10 gives N / 50 faces.
   double min_faces_per_point = 0.02;
-  void Check() const;  // throws varsfm::Error for limits outside (0, 1]
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // The diagonal of the box between the 5th and 95th percentiles of the points' coordinates

@@ -79,13 +79,13 @@ void TrimAndColour(const PointCloud& cloud, double max_distance, bool trim, Tria
 }  // namespace
 
 void SurfaceOptions::Check() const {
-  CheckGreaterThan("cell_spacing", cell_spacing, 0);
+  CheckPositive("cell_spacing", cell_spacing);
   CheckInRange("min_depth", min_depth, 1, 16);
   CheckInRange("--max-depth", max_depth, min_depth, 16);
-  CheckAtLeast("density_trim_levels", density_trim_levels, 0);
+  CheckNonNegative("density_trim_levels", density_trim_levels);
   CheckAtLeast("--threads", num_threads, 1);
   CheckAtLeast("--max-points", max_points, 10u);
-  CheckAtLeast("--trim", trim_factor, 0);
+  CheckNonNegative("--trim", trim_factor);
   delaunay.Check();
   quality.Check();
 }

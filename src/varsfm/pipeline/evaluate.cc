@@ -46,8 +46,8 @@ void EvaluateOptions::Check() const {
     throw OptionError("evaluate --render: --images (the photos) is required");
 }
 
-EvaluationReport RunEvaluation(const EvaluateOptions& options) {
-  options.evaluation.Check();
+EvaluationReport RunEvaluation(const EvaluateOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.evaluation.Check();
   // Check both folders before reading either, so the message names the one that is wrong.
   if (!std::filesystem::is_directory(options.model_dir))
     Fail("{}: model folder does not exist", options.model_dir.string());
@@ -68,7 +68,7 @@ std::string RunEvaluateCommand(const EvaluateOptions& options) {
   if (!options.gt_dir.empty()) {
     EvaluateOptions gt = options;
     gt.json_path.clear();
-    const EvaluationReport report = RunEvaluation(gt);
+    const EvaluationReport report = RunEvaluation(gt, OptionsCheck::kDoneByCaller);
     text += FormatReport(report);
     json = ToJson(report);
   }

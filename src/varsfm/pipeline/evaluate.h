@@ -7,6 +7,7 @@
 #include <string>
 
 #include "varsfm/eval/evaluate.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -27,8 +28,10 @@ struct EvaluateOptions {
   void Check() const;
 };
 
-// Throws varsfm::Error (one line) when a folder is missing or unreadable.
-EvaluationReport RunEvaluation(const EvaluateOptions& options);
+// The ground-truth evaluation. Throws varsfm::Error (one line) when a folder is missing or
+// unreadable. `check`: kDoneByCaller when options.evaluation was checked already.
+EvaluationReport RunEvaluation(const EvaluateOptions& options,
+                               OptionsCheck check = OptionsCheck::kByStage);
 
 // The whole `evaluate` command: ground truth when gt_dir is set, renderings when render is set
 // (at least one). Returns the readable report. The JSON holds the ground-truth report at the top

@@ -9,6 +9,7 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -42,12 +43,12 @@ std::filesystem::path FindImageFolder(const ExportOptions& options) {
 }  // namespace
 
 void ExportOptions::Check() const {
-  if (model.empty()) Fail("--model: no model given");
+  if (model.empty()) FailOption("model", "a model folder", "''");
   if (!std::filesystem::exists(model)) Fail("--model {}: no such folder", model.string());
   if (!image_dir.empty() && !std::filesystem::is_directory(image_dir)) {
     Fail("--images {}: no such folder", image_dir.string());
   }
-  if (output.empty()) Fail("--output: no output folder given");
+  if (output.empty()) FailOption("output", "a folder to create", "''");
   std::error_code ec;
   if (std::filesystem::exists(output, ec) &&
       (!std::filesystem::is_directory(output, ec) || !std::filesystem::is_empty(output, ec))) {

@@ -28,8 +28,9 @@ struct ExportOptions {
   std::filesystem::path image_dir;
   std::filesystem::path output;  // created; must not exist or be empty
 
-  // Throws varsfm::Error (one line naming the option) for a missing model or image folder, no
-  // output path, or an output that already holds files.
+  // Throws OptionError (util/option_check.h) for no model or no output path, varsfm::Error (one
+  // line naming the folder) for a model or image folder that does not exist or an output that
+  // already holds files.
   void Check() const;
 };
 

@@ -343,8 +343,8 @@ void ExtractOptions::Check() const {
   sift.Check();
   keyframes.Check();
   CheckAtLeast("min_image_size", min_image_size, 1);
-  CheckAtLeast("min_features", min_features, 0);
-  CheckAtLeast("--threads", threads, 0);
+  CheckNonNegative("min_features", min_features);
+  CheckNonNegative("--threads", threads);
 }
 
 ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) {

@@ -278,7 +278,7 @@ ImagePairs SelectPairs(const Database& db, const std::vector<image_t>& ids, Matc
 
 void MatchOptions::Check() const {
   CheckAtLeast("--overlap", overlap, 1);
-  CheckAtLeast("--loop-interval", loop_interval, 0);
+  CheckNonNegative("--loop-interval", loop_interval);
   retrieval.Check();
   vocabulary.Check();
   CheckAtLeast("--vocabulary-sample", vocabulary_sample, 1000);
@@ -286,8 +286,8 @@ void MatchOptions::Check() const {
     FailOption("--vocabulary", "a file", vocabulary_file.string());
   matching.Check();
   verification.Check();
-  CheckAtLeast("--threads", num_threads, 0);
-  CheckGreaterThan("commit_interval", commit_interval, 0);
+  CheckNonNegative("--threads", num_threads);
+  CheckPositive("commit_interval", commit_interval);
 }
 
 MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check) {

@@ -16,6 +16,7 @@
 #include "varsfm/image/jpeg_codec.h"
 #include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -245,6 +246,12 @@ json AddPrimitive(const std::vector<float>& positions, const std::vector<float>&
 }
 
 }  // namespace
+
+void DisplayModelOptions::Check() const {
+  CheckAtLeast("model.max_faces", max_faces, 1);
+  CheckAtLeast("model.max_texture_size", max_texture_size, 1);
+  CheckInRange("model.jpeg_quality", jpeg_quality, 1, 100);
+}
 
 std::vector<uint8_t> CompactGlbForDisplay(const std::vector<uint8_t>& bytes,
                                           const DisplayModelOptions& options) {

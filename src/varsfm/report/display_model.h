@@ -20,6 +20,8 @@ struct DisplayModelOptions {
   size_t max_faces = 100000;
   int max_texture_size = 2048;
   int jpeg_quality = 80;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // Throws varsfm::Error (one line) when `glb` is not a binary glTF 2.0 file with triangle

@@ -5,16 +5,16 @@
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
 void ReportOptions::Check() const {
-  if (output.empty()) Fail("report: no output folder given");
-  if (data.thumbnail_width < 16 || data.thumbnail_width > 1024)
-    Fail("report: thumbnail width {} is outside 16-1024", data.thumbnail_width);
-  if (data.thumbnail_quality < 1 || data.thumbnail_quality > 100)
-    Fail("report: JPEG quality {} is outside 1-100", data.thumbnail_quality);
-  if (data.max_view_points == 0) Fail("report: the 3D view needs at least one point");
+  if (output.empty()) FailOption("output", "the output folder of a run", "''");
+  CheckAtLeast("--max-points", data.max_view_points, 1);
+  CheckInRange("--thumbnail-width", data.thumbnail_width, 16, 1024);
+  CheckInRange("thumbnail_quality", data.thumbnail_quality, 1, 100);
+  data.model.Check();
 }
 
 ReportSummary WriteReport(const ReportOptions& options) {

@@ -15,9 +15,7 @@ struct ReportOptions {
   // three.js's folder (three_js.h); empty: $VARSFM_THREE_JS_DIR, else Debian's libjs-three.
   std::filesystem::path three_js_dir;
 
-  // Throws varsfm::Error (one line) for an empty output, a thumbnail width outside 16-1024, a
-  // JPEG quality outside 1-100 or no points allowed in the view.
-  void Check() const;
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 struct ReportSummary {

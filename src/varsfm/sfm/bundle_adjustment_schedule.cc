@@ -8,25 +8,25 @@ namespace varsfm {
 
 void BundleAdjustmentScheduleOptions::Check() const {
   CheckAtLeast("--local-ba-images", local_ba_images, 1);
-  CheckAtLeast("--local-ba-max-track", local_ba_max_track_length, 0);
+  CheckNonNegative("--local-ba-max-track", local_ba_max_track_length);
   CheckAtLeast("local_ba_max_iterations", local_ba_max_iterations, 1);
-  CheckGreaterThan("local_ba_function_tolerance", local_ba_function_tolerance, 0);
-  CheckAtLeast("--global-ba-images", first_global_ba_images, 0);
+  CheckPositive("local_ba_function_tolerance", local_ba_function_tolerance);
+  CheckNonNegative("--global-ba-images", first_global_ba_images);
   // A factor of 1 or less would run a global adjustment after every image; 0 says "never".
   if (global_ba_growth != 0 && !(std::isfinite(global_ba_growth) && global_ba_growth > 1))
     FailOption("--global-ba-growth", "0 (never) or a number > 1", global_ba_growth);
-  CheckGreaterThan("--global-ba-tolerance", global_ba_function_tolerance, 0);
-  CheckGreaterThan("--growth-ba-tolerance", growth_ba_function_tolerance, 0);
+  CheckPositive("--global-ba-tolerance", global_ba_function_tolerance);
+  CheckPositive("--growth-ba-tolerance", growth_ba_function_tolerance);
   if (global_ba_trust_region != BundleAdjustmentOptions::TrustRegion::kDogleg &&
       global_ba_trust_region != BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt)
     FailOption("--global-ba-trust-region", "dogleg or lm",
                static_cast<int>(global_ba_trust_region));
   CheckAtLeast("global_ba_max_iterations", global_ba_max_iterations, 1);
-  CheckAtLeast("--degenerate-init-global-ba", degenerate_init_global_ba_images, 0);
+  CheckNonNegative("--degenerate-init-global-ba", degenerate_init_global_ba_images);
   CheckAtLeast("final_global_ba_max_iterations", final_global_ba_max_iterations, 1);
-  CheckGreaterThan("filter_max_error_px", filter_max_error_px, 0);
+  CheckPositive("filter_max_error_px", filter_max_error_px);
   CheckInRange("filter_min_triangulation_angle_deg", filter_min_triangulation_angle_deg, 0, 180);
-  CheckInRange("readjust_min_new_points_fraction", readjust_min_new_points_fraction, 0, 1);
+  CheckFraction("readjust_min_new_points_fraction", readjust_min_new_points_fraction);
 }
 
 ScheduledAdjustment BundleAdjustmentSchedule::Next(size_t n, size_t num_images,

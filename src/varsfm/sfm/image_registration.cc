@@ -18,19 +18,18 @@ namespace varsfm {
 void ImageRegistrationOptions::Check() const {
   CheckAtLeast("--min-correspondences", min_correspondences, 6);
   CheckAtLeast("min_registration_inliers", min_inliers, 6);
-  CheckGreaterThan("registration_max_error_px", max_error_px, 0);
+  CheckPositive("registration_max_error_px", max_error_px);
   CheckAtLeast("registration.refinement_gate_factor", refinement_gate_factor, 1);
   CheckAtLeast("registration.pnp_max_iterations", pnp_max_iterations, 1);
-  CheckInRange("registration.pnp_confidence", pnp_confidence, 0, 1);
-  CheckGreaterThan("registration.min_focal_factor", min_focal_factor, 0);
+  CheckFraction("registration.pnp_confidence", pnp_confidence);
+  CheckPositive("registration.min_focal_factor", min_focal_factor);
   CheckGreaterThan("registration.max_focal_factor", max_focal_factor, min_focal_factor);
-  CheckGreaterThan("registration.dlt_min_focal_factor", dlt_min_focal_factor, 0);
+  CheckPositive("registration.dlt_min_focal_factor", dlt_min_focal_factor);
   CheckGreaterThan("registration.dlt_max_focal_factor", dlt_max_focal_factor, dlt_min_focal_factor);
-  CheckGreaterThan("registration.dlt_min_aspect", dlt_min_aspect, 0);
+  CheckPositive("registration.dlt_min_aspect", dlt_min_aspect);
   CheckGreaterThan("registration.dlt_max_aspect", dlt_max_aspect, dlt_min_aspect);
-  CheckGreaterThan("registration.dlt_max_skew_fraction", dlt_max_skew_fraction, 0);
-  CheckGreaterThan("registration.dlt_max_principal_point_offset", dlt_max_principal_point_offset,
-                   0);
+  CheckPositive("registration.dlt_max_skew_fraction", dlt_max_skew_fraction);
+  CheckPositive("registration.dlt_max_principal_point_offset", dlt_max_principal_point_offset);
 }
 
 std::vector<Correspondence2D3D> FindCorrespondences2D3D(const CorrespondenceGraph& graph,

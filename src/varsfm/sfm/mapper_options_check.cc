@@ -10,7 +10,7 @@ namespace varsfm {
 
 void InitialPairOptions::Check() const {
   CheckAtLeast("min_num_matches", min_num_matches, 1);
-  CheckInRange("min_matches_fraction", min_matches_fraction, 0, 1);
+  CheckFraction("min_matches_fraction", min_matches_fraction);
 }
 
 void IncrementalMapperOptions::Check() const {
@@ -18,14 +18,14 @@ void IncrementalMapperOptions::Check() const {
   CheckAtLeast("max_initial_pair_trials", max_initial_pair_trials, 1);
   CheckAtLeast("min_initial_points", min_initial_points, 1);
   CheckInRange("init_min_median_angle_deg", init_min_median_angle_deg, 0, 180);
-  CheckGreaterThan("init_max_error_px", init_max_error_px, 0);
-  CheckGreaterThan("degenerate_focal_log_step", degenerate_focal_log_step, 0);
+  CheckPositive("init_max_error_px", init_max_error_px);
+  CheckPositive("degenerate_focal_log_step", degenerate_focal_log_step);
   CheckAtLeast("degenerate_focal_max_steps", degenerate_focal_max_steps, 1);
   registration.Check();
   triangulation.Check();
   adjustment.Check();
   intrinsics.Check();
-  CheckAtLeast("--threads", num_threads, 0);
+  CheckNonNegative("--threads", num_threads);
 }
 
 }  // namespace varsfm

@@ -11,7 +11,7 @@
 namespace varsfm {
 
 void TrackTriangulationOptions::Check() const {
-  CheckGreaterThan("triangulation_max_error_px", max_error_px, 0);
+  CheckPositive("triangulation_max_error_px", max_error_px);
   CheckInRange("min_triangulation_angle_deg", min_angle_deg, 0, 180);
 }
 

@@ -265,12 +265,12 @@ void WriteRenderedScene(const RenderedScene& scene, const std::filesystem::path&
 }
 
 void RenderedSceneOptions::Check() const {
-  CheckGreaterThan("street_step", street_step, 0);
+  CheckPositive("street_step", street_step);
   CheckAtLeast("--images", num_images, 2);
   CheckAtLeast("width", width, 64);
   CheckAtLeast("height", height, 64);
-  CheckGreaterThan("focal_start", focal_start, 0);
-  CheckGreaterThan("zoom", zoom, 0);
+  CheckPositive("focal_start", focal_start);
+  CheckPositive("zoom", zoom);
   CheckFinite("k1", k1);
   CheckFinite("arc_degrees", arc_degrees);
   CheckInRange("supersampling", supersampling, 1, 8);

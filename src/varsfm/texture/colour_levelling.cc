@@ -151,9 +151,9 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
 }
 
 void ColourLevellingOptions::Check() const {
-  CheckAtLeast("levelling.smoothness", smoothness, 0);
-  CheckGreaterThan("levelling.ridge", ridge, 0);
-  CheckGreaterThan("levelling.max_seam_difference", max_seam_difference, 0);
+  CheckNonNegative("levelling.smoothness", smoothness);
+  CheckPositive("levelling.ridge", ridge);
+  CheckPositive("levelling.max_seam_difference", max_seam_difference);
   CheckAtLeast("levelling.max_samples_per_edge", max_samples_per_edge, 1);
 }
 

@@ -199,12 +199,12 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
 
 void FaceObservationOptions::Check() const {
   CheckAtLeast("max_raster_size", max_raster_size, 16);
-  CheckInRange("--depth-tolerance", depth_tolerance, 0, 1);
-  CheckInRange("--min-cos", min_cos_angle, 0, 1);
-  CheckAtLeast("border_px", border_px, 0);
-  CheckInRange("partial_face_weight", partial_face_weight, 0, 1);
-  CheckAtLeast("gradient_floor", gradient_floor, 0);
-  CheckAtLeast("--threads", num_threads, 0);
+  CheckFraction("--depth-tolerance", depth_tolerance);
+  CheckFraction("--min-cos", min_cos_angle);
+  CheckNonNegative("border_px", border_px);
+  CheckFraction("partial_face_weight", partial_face_weight);
+  CheckNonNegative("gradient_floor", gradient_floor);
+  CheckNonNegative("--threads", num_threads);
 }
 
 }  // namespace varsfm

@@ -101,8 +101,8 @@ size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
 }
 
 void PhotoConsistencyOptions::Check() const {
-  CheckGreaterThan("photo_consistency.bandwidth", bandwidth, 0);
-  CheckGreaterThan("photo_consistency.reject_distance", reject_distance, 0);
+  CheckPositive("photo_consistency.bandwidth", bandwidth);
+  CheckPositive("photo_consistency.reject_distance", reject_distance);
 }
 
 }  // namespace varsfm

@@ -257,10 +257,10 @@ void TextureMappingOptions::Check() const {
   levelling.Check();
   seams.Check();
   CheckInRange("--padding", padding, 0, 64);
-  CheckAtLeast("bleed_rings", bleed_rings, 0);
+  CheckNonNegative("bleed_rings", bleed_rings);
   CheckAtLeast("chart_tile", chart_tile, 8);
   CheckAtLeast("max_page_size", max_page_size, 64);
-  CheckInRange("min_mean_coverage", min_mean_coverage, 0, 1);
+  CheckFraction("min_mean_coverage", min_mean_coverage);
 }
 
 }  // namespace varsfm

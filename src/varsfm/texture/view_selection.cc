@@ -55,8 +55,8 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
 void ViewSelectionOptions::Check() const {
   observation.Check();
   consistency.Check();
-  CheckAtLeast("--smoothness", smoothness, 0);
-  CheckAtLeast("max_expansion_cycles", max_expansion_cycles, 0);
+  CheckNonNegative("--smoothness", smoothness);
+  CheckNonNegative("max_expansion_cycles", max_expansion_cycles);
 }
 
 }  // namespace varsfm

@@ -75,6 +75,27 @@ void CheckInHalfOpenRange(std::string_view name, T value, U lo, U hi) {
     FailOption(name, fmt::format("{} in ({}, {}]", internal::KindOf<T>(), lo, hi), value);
 }
 
+// The ranges most options have, named for what they mean. The message is the general check's
+// ("a number > 0").
+
+// value > 0: a length, a threshold, a tolerance, a weight that must act.
+template <typename T>
+void CheckPositive(std::string_view name, T value) {
+  CheckGreaterThan(name, value, 0);
+}
+
+// value >= 0: a count or weight where 0 turns the step off.
+template <typename T>
+void CheckNonNegative(std::string_view name, T value) {
+  CheckAtLeast(name, value, 0);
+}
+
+// 0 <= value <= 1: a fraction, a ratio or a probability.
+template <typename T>
+void CheckFraction(std::string_view name, T value) {
+  CheckInRange(name, value, 0, 1);
+}
+
 // Any finite value.
 template <std::floating_point T>
 void CheckFinite(std::string_view name, T value) {
