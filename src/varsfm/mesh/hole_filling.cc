@@ -15,10 +15,6 @@ namespace {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 constexpr uint32_t kNone = UINT32_MAX;
 
-uint64_t EdgeKey(uint32_t a, uint32_t b) {
-  return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-}
-
 // A face's edge from -> to (counter-clockwise in the face) with the face's third vertex.
 struct HalfEdge {
   uint32_t from, to, third;
@@ -32,7 +28,7 @@ std::vector<std::pair<uint64_t, HalfEdge>> SortedEdges(const TriangleMesh& mesh)
     for (int k = 0; k < 3; ++k) {
       const auto a = static_cast<uint32_t>(f[k]), b = static_cast<uint32_t>(f[(k + 1) % 3]),
                  c = static_cast<uint32_t>(f[(k + 2) % 3]);
-      edges.push_back({EdgeKey(a, b), HalfEdge{a, b, c}});
+      edges.push_back({UndirectedEdgeKey(a, b), HalfEdge{a, b, c}});
     }
   std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) {
     return x.first != y.first ? x.first < y.first : x.second.from < y.second.from;
@@ -117,9 +113,10 @@ std::vector<Eigen::Vector3i> TriangulateLoop(
       const int a = v[k], b = v[(k + 1) % 3];
       const bool on_loop = (b - a + n) % n == 1 || (a - b + n) % n == 1;
       if (!on_loop &&
-          std::binary_search(edges.begin(), edges.end(),
-                             std::pair<uint64_t, HalfEdge>{EdgeKey(loop[a].from, loop[b].from), {}},
-                             [](const auto& x, const auto& y) { return x.first < y.first; }))
+          std::binary_search(
+              edges.begin(), edges.end(),
+              std::pair<uint64_t, HalfEdge>{UndirectedEdgeKey(loop[a].from, loop[b].from), {}},
+              [](const auto& x, const auto& y) { return x.first < y.first; }))
         return {};
     }
     faces.emplace_back(loop[v[0]].from, loop[v[1]].from, loop[v[2]].from);
@@ -131,7 +128,7 @@ std::vector<Eigen::Vector3i> TriangulateLoop(
 
 }  // namespace
 
-void HoleFillingOptions::Check() const { CheckAtLeast("--max-hole-edges", max_edges, 0); }
+void HoleFillingOptions::Check() const { CheckNonNegative("--max-hole-edges", max_edges); }
 
 HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh* mesh) {
   HoleFillingStats stats;

@@ -10,11 +10,7 @@ EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh) {
   std::unordered_map<uint64_t, int> uses;
   uses.reserve(mesh.faces.size() * 2);
   for (const Eigen::Vector3i& f : mesh.faces) {
-    for (int k = 0; k < 3; ++k) {
-      const uint64_t a = static_cast<uint32_t>(std::min(f[k], f[(k + 1) % 3]));
-      const uint64_t b = static_cast<uint32_t>(std::max(f[k], f[(k + 1) % 3]));
-      ++uses[(a << 32) | b];
-    }
+    for (int k = 0; k < 3; ++k) ++uses[UndirectedEdgeKey(f[k], f[(k + 1) % 3])];
   }
   EdgeTopology topology;
   topology.num_edges = uses.size();

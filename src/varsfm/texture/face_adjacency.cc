@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "varsfm/scene/triangle_mesh.h"
+
 namespace varsfm {
 
 std::vector<std::array<int, 3>> FaceNeighbours(const std::vector<Eigen::Vector3i>& faces) {
@@ -12,9 +14,7 @@ std::vector<std::array<int, 3>> FaceNeighbours(const std::vector<Eigen::Vector3i
   open.reserve(faces.size() * 2);
   for (size_t f = 0; f < faces.size(); ++f) {
     for (int k = 0; k < 3; ++k) {
-      const uint64_t a = static_cast<uint32_t>(std::min(faces[f][k], faces[f][(k + 1) % 3]));
-      const uint64_t b = static_cast<uint32_t>(std::max(faces[f][k], faces[f][(k + 1) % 3]));
-      const uint64_t key = (a << 32) | b;
+      const uint64_t key = UndirectedEdgeKey(faces[f][k], faces[f][(k + 1) % 3]);
       const auto [it, inserted] = open.try_emplace(key, static_cast<int>(f), k);
       if (inserted) continue;
       const auto [g, slot] = it->second;
