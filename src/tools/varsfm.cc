@@ -81,6 +81,13 @@ CLI::Option* AddChoice(CLI::App* cmd, const std::string& flag, T* target, Choice
   return option->default_str(current);
 }
 
+// An option whose help shows its default value.
+template <typename T>
+CLI::Option* AddWithDefault(CLI::App* cmd, const std::string& flag, T& value,
+                            const std::string& description) {
+  return cmd->add_option(flag, value, description)->capture_default_str();
+}
+
 // Unsigned options: CLI11 would wrap "-1" around to the largest value.
 const CLI::Validator kNotNegative(
     [](std::string& text) {
@@ -90,45 +97,31 @@ const CLI::Validator kNotNegative(
     },
     "");
 
-Choices<varsfm::RetrievalScoring> RetrievalScorings() {
-  return {{"l1", varsfm::RetrievalScoring::kL1}, {"l2", varsfm::RetrievalScoring::kL2}};
-}
-
 // The dense method and its multi-view stereo settings (densify and run).
 void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* dense) {
   AddChoice(cmd, "--dense-method", &dense->method, ChoicesOf(varsfm::kDenseMethodNames),
             "match propagation, PatchMatch depth maps, PatchMatch started from propagation, "
             "propagation filled by PatchMatch, or both");
-  cmd->add_option("--dense-max-image-size", dense->mvs.max_image_size,
-                  "PatchMatch depth map size (longer side, px)")
-      ->capture_default_str();
-  cmd->add_option("--dense-source-views", dense->mvs.sources.num_source_views,
-                  "PatchMatch source views per depth map (1 to 16)")
-      ->capture_default_str();
-  cmd->add_option("--dense-iterations", dense->mvs.patchmatch.num_iterations,
-                  "PatchMatch iterations (red and black sweeps)")
-      ->capture_default_str();
-  cmd->add_option("--dense-levels", dense->mvs.patchmatch.num_levels,
-                  "PatchMatch coarse-to-fine levels (1: the depth-map size only)")
-      ->capture_default_str();
-  cmd->add_option("--dense-depth-range-percentile", dense->mvs.sources.depth_range_percentile,
-                  "PatchMatch depth range: this percentile of a view's sparse depths to 100 minus "
-                  "it, widened by a quarter (0: every sparse point)")
-      ->capture_default_str();
-  cmd->add_option("--dense-geometric-iterations",
-                  dense->mvs.patchmatch.num_geometric_iterations,
-                  "PatchMatch geometric-consistency pass iterations (0: none)")
-      ->capture_default_str();
-  cmd->add_option("--dense-min-views", dense->mvs.fusion.min_fused_views,
-                  "views a fused PatchMatch point needs")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--dense-max-image-size", dense->mvs.max_image_size,
+                 "PatchMatch depth map size (longer side, px)");
+  AddWithDefault(cmd, "--dense-source-views", dense->mvs.sources.num_source_views,
+                 "PatchMatch source views per depth map (1 to 16)");
+  AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
+                 "PatchMatch iterations (red and black sweeps)");
+  AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,
+                 "PatchMatch coarse-to-fine levels (1: the depth-map size only)");
+  AddWithDefault(cmd, "--dense-depth-range-percentile", dense->mvs.sources.depth_range_percentile,
+                 "PatchMatch depth range: this percentile of a view's sparse depths to 100 minus "
+                 "it, widened by a quarter (0: every sparse point)");
+  AddWithDefault(cmd, "--dense-geometric-iterations",
+                 dense->mvs.patchmatch.num_geometric_iterations,
+                 "PatchMatch geometric-consistency pass iterations (0: none)");
+  AddWithDefault(cmd, "--dense-min-views", dense->mvs.fusion.min_fused_views,
+                 "views a fused PatchMatch point needs");
 }
 
 void AddLogLevelOption(CLI::App* app) {
-  static const Choices<spdlog::level::level_enum> kLevels = {
-      {"trace", spdlog::level::trace}, {"debug", spdlog::level::debug},
-      {"info", spdlog::level::info},   {"warn", spdlog::level::warn},
-      {"error", spdlog::level::err},   {"off", spdlog::level::off}};
+  static const Choices<spdlog::level::level_enum> kLevels = ChoicesOf(varsfm::kLogLevelNames);
   app->add_option_function<std::string>(
       "--log-level",
       [](const std::string& text) { spdlog::set_level(Choose("--log-level", kLevels, text)); },
@@ -143,40 +136,31 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   auto& m = map->mapper;
   auto& a = m.adjustment;
   auto& in = m.intrinsics;
-  cmd->add_option("--local-ba-images", a.local_ba_images, "m0: images in each local BA")
-      ->capture_default_str();
-  cmd->add_option("--local-ba-max-track", a.local_ba_max_track_length,
-                  "points seen by more images are held constant in local BAs (0: none)")
-      ->capture_default_str();
-  cmd->add_option("--global-ba-images", a.first_global_ba_images,
-                  "M0: images registered before the first global BA (0: after every image)")
-      ->capture_default_str();
-  cmd->add_option("--global-ba-growth", a.global_ba_growth,
-                  "further global BA when the model grew by this factor (0: never)")
-      ->capture_default_str();
-  cmd->add_option("--global-ba-tolerance", a.global_ba_function_tolerance,
-                  "global BAs stop when an iteration lowers the cost by less than this fraction")
-      ->capture_default_str();
-  cmd->add_option("--growth-ba-tolerance", a.growth_ba_function_tolerance,
-                  "the same for the global BAs as the model grows (--global-ba-growth)")
-      ->capture_default_str();
-  using TrustRegion = varsfm::BundleAdjustmentOptions::TrustRegion;
+  AddWithDefault(cmd, "--local-ba-images", a.local_ba_images, "m0: images in each local BA");
+  AddWithDefault(cmd, "--local-ba-max-track", a.local_ba_max_track_length,
+                 "points seen by more images are held constant in local BAs (0: none)");
+  AddWithDefault(cmd, "--global-ba-images", a.first_global_ba_images,
+                 "M0: images registered before the first global BA (0: after every image)");
+  AddWithDefault(cmd, "--global-ba-growth", a.global_ba_growth,
+                 "further global BA when the model grew by this factor (0: never)");
+  AddWithDefault(cmd, "--global-ba-tolerance", a.global_ba_function_tolerance,
+                 "global BAs stop when an iteration lowers the cost by less than this fraction");
+  AddWithDefault(cmd, "--growth-ba-tolerance", a.growth_ba_function_tolerance,
+                 "the same for the global BAs as the model grows (--global-ba-growth)");
   AddChoice(cmd, "--global-ba-trust-region", &a.global_ba_trust_region,
-            {{"dogleg", TrustRegion::kDogleg}, {"lm", TrustRegion::kLevenbergMarquardt}},
+            ChoicesOf(varsfm::kTrustRegionNames),
             "global BAs' steps, Powell's dogleg or Levenberg-Marquardt");
-  cmd->add_option("--degenerate-init-global-ba", a.degenerate_init_global_ba_images,
-                  "after a degenerate initial pair, a global BA when this many images are in "
-                  "(0: none)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--degenerate-init-global-ba", a.degenerate_init_global_ba_images,
+                 "after a degenerate initial pair, a global BA when this many images are in "
+                 "(0: none)");
   cmd->add_flag("!--no-degenerate-focal-search", m.degenerate_init_focal_search,
                 "keep the prior focal length of a degenerate initial pair (default: the one a "
                 "third view fits best)");
   cmd->add_flag("!--no-final-global-ba", a.final_global_ba,
                 "skip the global BA at the end (with --global-ba-images above the image count, "
                 "--global-ba-growth 0 and --degenerate-init-global-ba 0: local BA only)");
-  cmd->add_option("--min-correspondences", m.registration.min_correspondences,
-                  "n0: 2D-3D needed (>= 6)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--min-correspondences", m.registration.min_correspondences,
+                 "n0: 2D-3D needed (>= 6)");
   cmd->add_flag("--refine-principal-point", in.refine_principal_point,
                 "estimate the principal point per image (default: held at the centre)");
   cmd->add_flag("!--no-shared-principal-point", in.share_principal_point,
@@ -187,28 +171,15 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_flag("!--no-distortion", in.refine_distortion, "hold k1 = k2 = 0");
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
-  cmd->add_option("--seed", m.seed, "random seed")->capture_default_str()->check(kNotNegative);
-  cmd->add_option(
-         "--threads", m.num_threads,
-         "bundle adjustment threads (0: all cores; the native solver's result does not depend "
-         "on it, Ceres' is reproducible with 1 only)")
-      ->capture_default_str();
-  using Solver = varsfm::BundleAdjustmentOptions::Solver;
-  AddChoice(cmd, "--ba-solver", &m.ba_solver,
-            {{"auto", Solver::kAuto},
-             {"native", Solver::kNativeDenseSchur},
-             {"ceres", Solver::kCeresAuto},
-             {"dense", Solver::kDenseSchur},
-             {"sparse", Solver::kSparseSchurSuiteSparse},
-             {"sparse-eigen", Solver::kSparseSchurEigen},
-             {"iterative", Solver::kIterativeSchur}},
+  AddWithDefault(cmd, "--seed", m.seed, "random seed")->check(kNotNegative);
+  AddWithDefault(
+      cmd, "--threads", m.num_threads,
+      "bundle adjustment threads (0: all cores; the native solver's result does not depend "
+      "on it, Ceres' is reproducible with 1 only)");
+  AddChoice(cmd, "--ba-solver", &m.ba_solver, ChoicesOf(varsfm::kBundleAdjustmentSolverNames),
             "bundle adjustment solver: by size, varsfm's dense Schur LM, Ceres only by size, or "
             "one of Ceres' (Schur complement each)");
-  using Sharing = varsfm::IntrinsicsSharing;
-  AddChoice(cmd, "--intrinsics", &in.sharing,
-            {{"per-image", Sharing::kPerImage},
-             {"focal-per-image", Sharing::kFocalPerImage},
-             {"shared", Sharing::kShared}},
+  AddChoice(cmd, "--intrinsics", &in.sharing, ChoicesOf(varsfm::kIntrinsicsSharingNames),
             "every image its own camera, the focal length per image and the rest one set per "
             "image size, or one camera");
 }
@@ -224,18 +195,15 @@ void AddExtractCommand(CLI::App* app) {
   input->add_option("--video", options->video,
                     "video; keyframes go to <workspace>_frames/<video name>/");
   input->require_option(1);
-  cmd->add_option("--max-features", options->sift.max_features, "strongest features kept")
-      ->capture_default_str();
-  cmd->add_option("--max-image-size", options->sift.max_image_size,
-                  "larger images are downscaled for extraction")
-      ->capture_default_str();
-  cmd->add_option("--contrast-threshold", options->sift.contrast_threshold,
-                  "SIFT contrast threshold (OpenCV's; lower: more, weaker features)")
-      ->capture_default_str();
-  cmd->add_option("--max-frames", options->keyframes.max_frames, "at most this many video keyframes, subsampled evenly (0: as many as the motion needs)")
-      ->capture_default_str();
-  cmd->add_option("--threads", options->threads, "worker threads (0: all cores)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--max-features", options->sift.max_features, "strongest features kept");
+  AddWithDefault(cmd, "--max-image-size", options->sift.max_image_size,
+                 "larger images are downscaled for extraction");
+  AddWithDefault(cmd, "--contrast-threshold", options->sift.contrast_threshold,
+                 "SIFT contrast threshold (OpenCV's; lower: more, weaker features)");
+  AddWithDefault(
+      cmd, "--max-frames", options->keyframes.max_frames,
+      "at most this many video keyframes, subsampled evenly (0: as many as the motion needs)");
+  AddWithDefault(cmd, "--threads", options->threads, "worker threads (0: all cores)");
   cmd->callback([options] { varsfm::RunExtraction(*options); });
 }
 
@@ -248,45 +216,33 @@ void AddMatchCommand(CLI::App* app) {
             fmt::format("every pair, each image with its next --overlap, its top "
                         "--retrieval-neighbors by a vocabulary tree, or retrieval above {} images",
                         varsfm::kAutoRetrievalImages));
-  cmd->add_option("--overlap", options->overlap, "sequential: each image with its next N")
-      ->capture_default_str();
-  cmd->add_option("--loop-interval", options->loop_interval,
-                  "sequential: every Nth image also with its retrieved images (loop closure; 0: "
-                  "none)")
-      ->capture_default_str();
-  cmd->add_option("--retrieval-neighbors", options->retrieval.num_neighbors,
-                  "retrieval: each image with its top K retrieved images")
-      ->capture_default_str();
-  cmd->add_option("--query-expansion", options->retrieval.query_expansion,
-                  "retrieval: best M images averaged into a second query (0: none)")
-      ->capture_default_str();
-  AddChoice(cmd, "--retrieval-scoring", &options->retrieval.scoring, RetrievalScorings(),
-            "distance of the TF-IDF vectors");
+  AddWithDefault(cmd, "--overlap", options->overlap, "sequential: each image with its next N");
+  AddWithDefault(cmd, "--loop-interval", options->loop_interval,
+                 "sequential: every Nth image also with its retrieved images (loop closure; 0: "
+                 "none)");
+  AddWithDefault(cmd, "--retrieval-neighbors", options->retrieval.num_neighbors,
+                 "retrieval: each image with its top K retrieved images");
+  AddWithDefault(cmd, "--query-expansion", options->retrieval.query_expansion,
+                 "retrieval: best M images averaged into a second query (0: none)");
+  AddChoice(cmd, "--retrieval-scoring", &options->retrieval.scoring,
+            ChoicesOf(varsfm::kRetrievalScoringNames), "distance of the TF-IDF vectors");
   cmd->add_option("--vocabulary", options->vocabulary_file,
                   "vocabulary tree file: read if it exists, else trained and saved there");
-  cmd->add_option("--vocabulary-branching", options->vocabulary.branching,
-                  "vocabulary tree: clusters per node")
-      ->capture_default_str();
-  cmd->add_option("--vocabulary-depth", options->vocabulary.depth, "vocabulary tree: levels")
-      ->capture_default_str();
-  cmd->add_option("--vocabulary-sample", options->vocabulary_sample,
-                  "vocabulary tree: descriptors to train on")
-      ->capture_default_str();
-  cmd->add_option("--ratio", options->matching.max_ratio, "Lowe's ratio test on descriptor angles")
-      ->capture_default_str();
-  cmd->add_option("--max-error", options->verification.max_error, "RANSAC inlier threshold (px)")
-      ->capture_default_str();
-  cmd->add_option("--min-inliers", options->verification.min_num_inliers,
-                  "fewer inliers: the pair is not verified")
-      ->capture_default_str();
-  cmd->add_option("--threads", options->num_threads, "worker threads (0: all cores)")
-      ->capture_default_str();
-  cmd->add_option("--commit-interval", options->commit_interval,
-                  "seconds between commits: the most work a kill loses")
-      ->capture_default_str();
-  cmd->add_option("--seed", options->seed, "random seed")
-      ->capture_default_str()
-      ->check(kNotNegative);
+  AddWithDefault(cmd, "--vocabulary-branching", options->vocabulary.branching,
+                 "vocabulary tree: clusters per node");
+  AddWithDefault(cmd, "--vocabulary-depth", options->vocabulary.depth, "vocabulary tree: levels");
+  AddWithDefault(cmd, "--vocabulary-sample", options->vocabulary_sample,
+                 "vocabulary tree: descriptors to train on");
+  AddWithDefault(cmd, "--ratio", options->matching.max_ratio,
+                 "Lowe's ratio test on descriptor angles");
+  AddWithDefault(cmd, "--max-error", options->verification.max_error,
+                 "RANSAC inlier threshold (px)");
+  AddWithDefault(cmd, "--min-inliers", options->verification.min_num_inliers,
+                 "fewer inliers: the pair is not verified");
+  AddWithDefault(cmd, "--threads", options->num_threads, "worker threads (0: all cores)");
+  AddWithDefault(cmd, "--commit-interval", options->commit_interval,
+                 "seconds between commits: the most work a kill loses");
+  AddWithDefault(cmd, "--seed", options->seed, "random seed")->check(kNotNegative);
   cmd->callback([options] { varsfm::RunMatching(*options); });
 }
 
@@ -312,15 +268,14 @@ void AddRunCommand(CLI::App* app) {
             fmt::format("auto: sequential for a video, retrieval above {} images, else "
                         "exhaustive",
                         varsfm::kAutoRetrievalImages));
-  cmd->add_option("--max-features", options->extract.sift.max_features, "strongest features kept")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--max-features", options->extract.sift.max_features,
+                 "strongest features kept");
   AddChoice(cmd, "--until", &options->until, ChoicesOf(varsfm::kRunStageNames),
             "the last stage run");
   AddDenseMethodOptions(cmd, &options->dense);
-  cmd->add_option("--holdout", options->holdout,
-                  "keep every N-th registered image (by name) out of densify and texture, then "
-                  "score the model on those views (PSNR, SSIM, coverage); 0: none")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--holdout", options->holdout,
+                 "keep every N-th registered image (by name) out of densify and texture, then "
+                 "score the model on those views (PSNR, SSIM, coverage); 0: none");
   AddChoice(cmd, "--surface", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
             "mesh stage: visibility-based Delaunay graph cut, screened Poisson, or advancing "
             "front");
@@ -348,10 +303,9 @@ void AddEvaluateCommand(CLI::App* app) {
   cmd->add_option("--holdout", options->holdout,
                   "--render: every N-th image by name was held out (run --holdout N): report "
                   "those views apart");
-  cmd->add_option("--inlier-threshold", options->evaluation.alignment.inlier_threshold,
-                  "robust alignment: centres farther than this (GT units) are outliers "
-                  "(0: least squares over all)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--inlier-threshold", options->evaluation.alignment.inlier_threshold,
+                 "robust alignment: centres farther than this (GT units) are outliers "
+                 "(0: least squares over all)");
   cmd->callback([options] { std::fputs(varsfm::RunEvaluateCommand(*options).c_str(), stdout); });
 }
 
@@ -361,11 +315,8 @@ void AddDemoCommand(CLI::App* app) {
   CLI::App* cmd =
       app->add_subcommand("demo", "reconstruct a built-in synthetic scene and score it");
   cmd->add_option("--output", options->output, "output folder")->required();
-  cmd->add_option("--images", options->scene.num_images, "images to render (3 to 200)")
-      ->capture_default_str();
-  cmd->add_option("--seed", options->scene.seed, "scene seed")
-      ->capture_default_str()
-      ->check(kNotNegative);
+  AddWithDefault(cmd, "--images", options->scene.num_images, "images to render (3 to 200)");
+  AddWithDefault(cmd, "--seed", options->scene.seed, "scene seed")->check(kNotNegative);
   AddChoice(cmd, "--until", &options->run.until, ChoicesOf(varsfm::kRunStageNames),
             "the last stage run");
   cmd->callback([options] { varsfm::RunDemo(*options); });
@@ -382,16 +333,13 @@ void AddDensifyCommand(CLI::App* app) {
       ->required();
   cmd->add_option("--images", options->image_dir, "image folder")->required();
   cmd->add_option("--output", options->output, "output folder (dense.ply)")->required();
-  cmd->add_option("--max-image-size", options->dense.max_image_size, "matching image size")
-      ->capture_default_str();
-  cmd->add_option("--partners", options->dense.max_partners, "partners per image (1 to 10)")
-      ->capture_default_str();
-  cmd->add_option("--min-zncc", options->dense.propagation.min_zncc, "ZNCC threshold (-1 to 1)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--max-image-size", options->dense.max_image_size, "matching image size");
+  AddWithDefault(cmd, "--partners", options->dense.max_partners, "partners per image (1 to 10)");
+  AddWithDefault(cmd, "--min-zncc", options->dense.propagation.min_zncc,
+                 "ZNCC threshold (-1 to 1)");
   cmd->add_option("--holdout", options->holdout,
                   "leave every N-th registered image (by name) out (0: none)");
-  cmd->add_option("--threads", options->dense.num_threads, "threads (0: all cores)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--threads", options->dense.num_threads, "threads (0: all cores)");
   AddDenseMethodOptions(cmd, &options->dense);
   cmd->callback([options] { varsfm::RunDensify(*options); });
 }
@@ -407,19 +355,15 @@ void AddMeshCommand(CLI::App* app) {
                   "(default: INPUT's folder/sparse)");
   AddChoice(cmd, "--method", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
             "visibility-based Delaunay graph cut, screened Poisson, or advancing front");
-  cmd->add_option("--max-depth", options->surface.max_depth,
-                  "screened Poisson: largest octree depth (the depth follows the cloud)")
-      ->capture_default_str();
-  cmd->add_option("--threads", options->surface.num_threads,
-                  "screened Poisson threads (the mesh is reproducible for a fixed count)")
-      ->capture_default_str();
-  cmd->add_option("--max-points", options->surface.max_points,
-                  "afront: downsample above this many points")
-      ->capture_default_str()
+  AddWithDefault(cmd, "--max-depth", options->surface.max_depth,
+                 "screened Poisson: largest octree depth (the depth follows the cloud)");
+  AddWithDefault(cmd, "--threads", options->surface.num_threads,
+                 "screened Poisson threads (the mesh is reproducible for a fixed count)");
+  AddWithDefault(cmd, "--max-points", options->surface.max_points,
+                 "afront: downsample above this many points")
       ->check(kNotNegative);
-  cmd->add_option("--trim", options->surface.trim_factor,
-                  "Poisson: drop faces farther than this x point spacing from the data (0: keep)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--trim", options->surface.trim_factor,
+                 "Poisson: drop faces farther than this x point spacing from the data (0: keep)");
   cmd->callback([options] { varsfm::RunMesh(*options); });
 }
 
@@ -434,29 +378,22 @@ void AddTextureCommand(CLI::App* app) {
       ->required();
   cmd->add_option("--images", options->image_dir, "image folder")->required();
   cmd->add_option("--output", options->output, "output folder (textured/, model.glb)")->required();
-  cmd->add_option("--smoothness", t.selection.smoothness,
-                  "Potts weight grouping faces into charts (0: best image per face)")
-      ->capture_default_str();
-  cmd->add_option("--depth-tolerance", t.selection.observation.depth_tolerance,
-                  "visibility: a face is occluded when the mesh is nearer by this fraction")
-      ->capture_default_str();
-  cmd->add_option("--min-cos", t.selection.observation.min_cos_angle,
-                  "faces seen more obliquely than acos(this) are not textured from a view")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--smoothness", t.selection.smoothness,
+                 "Potts weight grouping faces into charts (0: best image per face)");
+  AddWithDefault(cmd, "--depth-tolerance", t.selection.observation.depth_tolerance,
+                 "visibility: a face is occluded when the mesh is nearer by this fraction");
+  AddWithDefault(cmd, "--min-cos", t.selection.observation.min_cos_angle,
+                 "faces seen more obliquely than acos(this) are not textured from a view");
   cmd->add_flag("!--no-photo-consistency", t.selection.consistency.enabled,
                 "keep views whose colour of a face disagrees with the other views'");
-  cmd->add_option("--consistency-bandwidth", t.selection.consistency.bandwidth,
-                  "photo-consistency: mean-shift bandwidth in grey levels")
-      ->capture_default_str();
-  cmd->add_flag("!--no-exposure-gain", t.selection.exposure.enabled,
-                "no per-photo exposure gains");
+  AddWithDefault(cmd, "--consistency-bandwidth", t.selection.consistency.bandwidth,
+                 "photo-consistency: mean-shift bandwidth in grey levels");
+  cmd->add_flag("!--no-exposure-gain", t.selection.exposure.enabled, "no per-photo exposure gains");
   cmd->add_flag("!--no-levelling", t.levelling.enabled, "no colour levelling across seams");
-  cmd->add_option("--padding", t.padding, "photo pixels kept around each chart (0 to 64)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--padding", t.padding, "photo pixels kept around each chart (0 to 64)");
   cmd->add_option("--holdout", options->holdout,
                   "leave every N-th registered image (by name) out (0: none)");
-  cmd->add_option("--threads", t.selection.observation.num_threads, "threads (0: all cores)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--threads", t.selection.observation.num_threads, "threads (0: all cores)");
   cmd->callback([options] { varsfm::RunTexture(*options); });
 }
 
@@ -486,12 +423,10 @@ void AddReportCommand(CLI::App* app) {
                   "the photos, for thumbnails (default: where the run read them)");
   cmd->add_option("--three-js", options->three_js_dir,
                   "three.js folder (default: $VARSFM_THREE_JS_DIR, else Debian's libjs-three)");
-  cmd->add_option("--max-points", options->data.max_view_points, "points shown in the 3D view")
-      ->capture_default_str()
+  AddWithDefault(cmd, "--max-points", options->data.max_view_points, "points shown in the 3D view")
       ->check(kNotNegative);
-  cmd->add_option("--thumbnail-width", options->data.thumbnail_width,
-                  "thumbnail width (px, 16 to 1024)")
-      ->capture_default_str();
+  AddWithDefault(cmd, "--thumbnail-width", options->data.thumbnail_width,
+                 "thumbnail width (px, 16 to 1024)");
   cmd->add_flag("!--no-model", options->data.embed_model,
                 "leave OUT/model.glb out of the page (smaller file, no textured model)");
   cmd->callback([options] { varsfm::RunReport(*options); });

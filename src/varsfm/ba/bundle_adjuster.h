@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "varsfm/scene/reconstruction.h"
+#include "varsfm/util/enum_names.h"
 #include "varsfm/util/types.h"
 
 namespace varsfm {
@@ -101,6 +102,21 @@ struct BundleAdjustmentOptions {
   IntrinsicsOptions intrinsics;
   bool verbose = false;  // Ceres progress to stdout
 };
+
+// The names `--ba-solver` takes.
+inline constexpr EnumName<BundleAdjustmentOptions::Solver> kBundleAdjustmentSolverNames[] = {
+    {BundleAdjustmentOptions::Solver::kAuto, "auto"},
+    {BundleAdjustmentOptions::Solver::kNativeDenseSchur, "native"},
+    {BundleAdjustmentOptions::Solver::kCeresAuto, "ceres"},
+    {BundleAdjustmentOptions::Solver::kDenseSchur, "dense"},
+    {BundleAdjustmentOptions::Solver::kSparseSchurSuiteSparse, "sparse"},
+    {BundleAdjustmentOptions::Solver::kSparseSchurEigen, "sparse-eigen"},
+    {BundleAdjustmentOptions::Solver::kIterativeSchur, "iterative"}};
+
+// The names `--global-ba-trust-region` takes.
+inline constexpr EnumName<BundleAdjustmentOptions::TrustRegion> kTrustRegionNames[] = {
+    {BundleAdjustmentOptions::TrustRegion::kDogleg, "dogleg"},
+    {BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt, "lm"}};
 
 // What enters the problem. A 3D point enters when a variable-pose image observes it; then every
 // observation of it by an image of the config (variable or constant pose) is a residual. Points

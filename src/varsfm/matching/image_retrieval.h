@@ -11,12 +11,18 @@
 #include <utility>
 #include <vector>
 
+#include "varsfm/util/enum_names.h"
+
 namespace varsfm {
 
 enum class RetrievalScoring {
   kL1,  // 2 - |q - d|_1 of L1-normalised vectors = 2 sum_i min(q_i, d_i)
   kL2,  // q . d of L2-normalised vectors
 };
+
+// The names `--retrieval-scoring` takes.
+inline constexpr EnumName<RetrievalScoring> kRetrievalScoringNames[] = {
+    {RetrievalScoring::kL1, "l1"}, {RetrievalScoring::kL2, "l2"}};
 
 struct RetrievalOptions {
   // Top-k retrieved images each image is matched with: 30 found 88 % of the inliers of

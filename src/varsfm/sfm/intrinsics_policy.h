@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "varsfm/ba/bundle_adjuster.h"
+#include "varsfm/util/enum_names.h"
 
 namespace varsfm {
 
@@ -17,6 +18,12 @@ enum class IntrinsicsSharing {
   kFocalPerImage,  // focal length per image; aspect, skew, principal point and k1, k2 one set
                    // per image size (a zoom lens on one body), estimated in the global adjustments
 };
+
+// The names `--intrinsics` takes.
+inline constexpr EnumName<IntrinsicsSharing> kIntrinsicsSharingNames[] = {
+    {IntrinsicsSharing::kPerImage, "per-image"},
+    {IntrinsicsSharing::kFocalPerImage, "focal-per-image"},
+    {IntrinsicsSharing::kShared, "shared"}};
 
 struct IntrinsicsPolicy {
   IntrinsicsSharing sharing = IntrinsicsSharing::kPerImage;
