@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/io/text_line.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/little_endian.h"
@@ -282,14 +283,18 @@ class TextLines {
   explicit TextLines(const fs::path& file) : file_(file), in_(file) {
     if (!in_) Fail("{}: cannot open", file.string());
   }
-  // Next data line; `keep_blank` returns blank lines too (the POINTS2D line may be empty).
-  bool Next(std::string* line, bool keep_blank = false) {
-    while (std::getline(in_, *line)) {
+  // Next data line, to be parsed from `fields`; `keep_blank` returns blank lines too (the
+  // POINTS2D line may be empty).
+  bool Next(std::istringstream* fields, bool keep_blank = false) {
+    while (ReadTextLine(in_, &line_)) {
       ++number_;
-      if (!line->empty() && line->back() == '\r') line->pop_back();
-      const auto first = line->find_first_not_of(" \t");
-      if (keep_blank && first == std::string::npos) return true;
-      if (first != std::string::npos && (*line)[first] != '#') return true;
+      const auto first = line_.find_first_not_of(" \t");
+      if ((keep_blank && first == std::string::npos) ||
+          (first != std::string::npos && line_[first] != '#')) {
+        fields->clear();
+        fields->str(line_);
+        return true;
+      }
     }
     return false;
   }
@@ -300,14 +305,14 @@ class TextLines {
  private:
   fs::path file_;
   std::ifstream in_;
+  std::string line_;
   int number_ = 0;
 };
 
 void ReadCamerasText(const fs::path& file, Reconstruction* rec) {
   TextLines lines(file);
-  std::string line;
-  while (lines.Next(&line)) {
-    std::istringstream s(line);
+  std::istringstream s;
+  while (lines.Next(&s)) {
     camera_t id;
     std::string model;
     int width, height;
@@ -357,9 +362,8 @@ Rigid3d PoseFrom(const double* v) {
 
 void ReadImagesText(const fs::path& file, Reconstruction* rec) {
   TextLines lines(file);
-  std::string line;
-  while (lines.Next(&line)) {
-    std::istringstream s(line);
+  std::istringstream s, p;
+  while (lines.Next(&s)) {
     Image image;
     double v[7];
     if (!(s >> image.image_id >> v[0] >> v[1] >> v[2] >> v[3] >> v[4] >> v[5] >> v[6] >>
@@ -369,8 +373,7 @@ void ReadImagesText(const fs::path& file, Reconstruction* rec) {
     std::getline(s >> std::ws, image.name);
     if (image.name.empty()) lines.Bad("image without a name");
     image.cam_from_world = PoseFrom(v);
-    if (!lines.Next(&line, /*keep_blank=*/true)) lines.Bad("missing POINTS2D line");
-    std::istringstream p(line);
+    if (!lines.Next(&p, /*keep_blank=*/true)) lines.Bad("missing POINTS2D line");
     double x, y;
     int64_t point3D_id;
     while (p >> x >> y >> point3D_id) image.points2D.push_back({Eigen::Vector2d(x, y)});
@@ -404,9 +407,8 @@ void ReadImagesBinary(const fs::path& file, Reconstruction* rec) {
 std::vector<PendingPoint> ReadPointsText(const fs::path& file) {
   TextLines lines(file);
   std::vector<PendingPoint> points;
-  std::string line;
-  while (lines.Next(&line)) {
-    std::istringstream s(line);
+  std::istringstream s;
+  while (lines.Next(&s)) {
     uint64_t id;
     PendingPoint point;
     int r, g, b;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 #include "varsfm/io/sqlite_statement.h"
 #include "varsfm/util/error.h"
@@ -367,15 +368,11 @@ void Database::UpdateCamera(const DbCamera& camera) {
 
 std::optional<DbCamera> Database::ReadCamera(camera_t camera_id) const {
   Query query(statements_->read_camera, "cannot read a camera");
-  if (!query.Bind(camera_id).Step()) return std::nullopt;
-  return CameraFromRow(query);
+  return query.Bind(camera_id).FirstRow(CameraFromRow);
 }
 
 std::vector<DbCamera> Database::ReadAllCameras() const {
-  Query query(statements_->read_all_cameras, "cannot read the cameras");
-  std::vector<DbCamera> cameras;
-  while (query.Step()) cameras.push_back(CameraFromRow(query));
-  return cameras;
+  return Query(statements_->read_all_cameras, "cannot read the cameras").AllRows(CameraFromRow);
 }
 
 void Database::DeleteCamera(camera_t camera_id) {
@@ -392,21 +389,16 @@ image_t Database::WriteImage(const DbImage& image) {
 
 std::optional<DbImage> Database::ReadImage(image_t image_id) const {
   Query query(statements_->read_image, "cannot read an image");
-  if (!query.Bind(image_id).Step()) return std::nullopt;
-  return ImageFromRow(query);
+  return query.Bind(image_id).FirstRow(ImageFromRow);
 }
 
 std::optional<DbImage> Database::ReadImageWithName(const std::string& name) const {
   Query query(statements_->read_image_with_name, "cannot read an image");
-  if (!query.BindText(name).Step()) return std::nullopt;
-  return ImageFromRow(query);
+  return query.BindText(name).FirstRow(ImageFromRow);
 }
 
 std::vector<DbImage> Database::ReadAllImages() const {
-  Query query(statements_->read_all_images, "cannot read the images");
-  std::vector<DbImage> images;
-  while (query.Step()) images.push_back(ImageFromRow(query));
-  return images;
+  return Query(statements_->read_all_images, "cannot read the images").AllRows(ImageFromRow);
 }
 
 void Database::DeleteImage(image_t image_id) {
@@ -488,33 +480,60 @@ FeatureDescriptors Database::ReadDescriptors(image_t image_id) const {
 
 // ---- Matches ----
 
+namespace {
+
+// The pair_id column of the pair (image_id1, image_id2), in either order.
+int64_t PairIdOf(image_t image_id1, image_t image_id2) {
+  return static_cast<int64_t>(Database::ImagePairToPairId(image_id1, image_id2));
+}
+
+// A match list's rows, cols and data columns, as MatchesFromRow reads them.
+void BindMatches(Query& query, const FeatureMatches& matches) {
+  query.Bind(static_cast<int64_t>(matches.size())).Bind(2);
+  query.BindBlob(matches.data(), matches.size() * sizeof(FeatureMatch));
+}
+
+// Whether the pair's row exists in the table `exists` queries.
+bool PairRowExists(Statement& exists, std::string_view what, image_t image_id1, image_t image_id2) {
+  return Query(exists, what).Bind(PairIdOf(image_id1, image_id2)).Step();
+}
+
+// The pair's row as `from_row` reads it, turned by `swap` when it is stored from image_id2 to
+// image_id1 (SwapImagePair); empty when the pair has no row.
+template <typename FromRow, typename Swap>
+auto ReadPairRow(Statement& read, std::string_view what, image_t image_id1, image_t image_id2,
+                 FromRow from_row, Swap swap) -> decltype(from_row(std::declval<const Query&>())) {
+  Query query(read, what);
+  if (!query.Bind(PairIdOf(image_id1, image_id2)).Step()) return {};
+  auto row = from_row(query);
+  return Database::SwapImagePair(image_id1, image_id2) ? swap(std::move(row)) : row;
+}
+
+}  // namespace
+
 void Database::WriteMatches(image_t image_id1, image_t image_id2, const FeatureMatches& matches) {
   const std::string what = "cannot write matches of " + PairName(image_id1, image_id2);
   const FeatureMatches stored =
       SwapImagePair(image_id1, image_id2) ? SwapMatches(matches) : matches;
   Query query(statements_->write_matches, what);
-  query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2)));
-  query.Bind(static_cast<int64_t>(stored.size())).Bind(2);
-  query.BindBlob(stored.data(), stored.size() * sizeof(FeatureMatch)).Step();
+  query.Bind(PairIdOf(image_id1, image_id2));
+  BindMatches(query, stored);
+  query.Step();
 }
 
 bool Database::ExistsMatches(image_t image_id1, image_t image_id2) const {
-  Query query(statements_->exists_matches, "cannot read matches");
-  return query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2))).Step();
+  return PairRowExists(statements_->exists_matches, "cannot read matches", image_id1, image_id2);
 }
 
 FeatureMatches Database::ReadMatches(image_t image_id1, image_t image_id2) const {
-  const std::string what = "cannot read matches of " + PairName(image_id1, image_id2);
-  Query query(statements_->read_matches, what);
-  if (!query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2))).Step()) {
-    return {};
-  }
-  FeatureMatches matches = MatchesFromRow(query, 0);
-  return SwapImagePair(image_id1, image_id2) ? SwapMatches(std::move(matches)) : matches;
+  return ReadPairRow(
+      statements_->read_matches, "cannot read matches of " + PairName(image_id1, image_id2),
+      image_id1, image_id2, [](const Query& row) { return MatchesFromRow(row, 0); },
+      [](FeatureMatches matches) { return SwapMatches(std::move(matches)); });
 }
 
 void Database::DeletePair(image_t image_id1, image_t image_id2) {
-  const auto pair_id = static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2));
+  const auto pair_id = PairIdOf(image_id1, image_id2);
   Query(statements_->delete_matches, "cannot delete matches").Bind(pair_id).Step();
   Query(statements_->delete_two_view_geometry, "cannot delete a two-view geometry")
       .Bind(pair_id)
@@ -532,12 +551,10 @@ void Database::WriteTwoViewGeometry(image_t image_id1, image_t image_id2,
   const Eigen::Quaterniond& q = stored.cam2_from_cam1_rotation;
   const double qvec[4] = {q.w(), q.x(), q.y(), q.z()};
   const Eigen::Vector3d& tvec = stored.cam2_from_cam1_translation;
-  const FeatureMatches& inliers = stored.inlier_matches;
 
   Query query(statements_->write_two_view_geometry, what);
-  query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2)));
-  query.Bind(static_cast<int64_t>(inliers.size())).Bind(2);
-  query.BindBlob(inliers.data(), inliers.size() * sizeof(FeatureMatch));
+  query.Bind(PairIdOf(image_id1, image_id2));
+  BindMatches(query, stored.inlier_matches);
   query.Bind(stored.config);
   query.BindBlob(F.data(), sizeof(double) * 9).BindBlob(E.data(), sizeof(double) * 9);
   query.BindBlob(H.data(), sizeof(double) * 9).BindBlob(qvec, sizeof(qvec));
@@ -545,28 +562,23 @@ void Database::WriteTwoViewGeometry(image_t image_id1, image_t image_id2,
 }
 
 bool Database::ExistsTwoViewGeometry(image_t image_id1, image_t image_id2) const {
-  Query query(statements_->exists_two_view_geometry, "cannot read a two-view geometry");
-  return query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2))).Step();
+  return PairRowExists(statements_->exists_two_view_geometry, "cannot read a two-view geometry",
+                       image_id1, image_id2);
 }
 
 TwoViewGeometry Database::ReadTwoViewGeometry(image_t image_id1, image_t image_id2) const {
-  const std::string what = "cannot read the geometry of " + PairName(image_id1, image_id2);
-  Query query(statements_->read_two_view_geometry, what);
-  if (!query.Bind(static_cast<int64_t>(ImagePairToPairId(image_id1, image_id2))).Step()) {
-    return {};
-  }
-  TwoViewGeometry geometry = TwoViewGeometryFromRow(query, 0);
-  return SwapImagePair(image_id1, image_id2) ? Inverted(geometry) : geometry;
+  return ReadPairRow(
+      statements_->read_two_view_geometry,
+      "cannot read the geometry of " + PairName(image_id1, image_id2), image_id1, image_id2,
+      [](const Query& row) { return TwoViewGeometryFromRow(row, 0); },
+      [](const TwoViewGeometry& geometry) { return Inverted(geometry); });
 }
 
 std::vector<std::pair<image_pair_t, TwoViewGeometry>> Database::ReadAllTwoViewGeometries() const {
   Query query(statements_->read_all_two_view_geometries, "cannot read the two-view geometries");
-  std::vector<std::pair<image_pair_t, TwoViewGeometry>> geometries;
-  while (query.Step()) {
-    geometries.emplace_back(static_cast<image_pair_t>(query.Int(0)),
-                            TwoViewGeometryFromRow(query, 1));
-  }
-  return geometries;
+  return query.AllRows([](const Query& row) {
+    return std::pair(static_cast<image_pair_t>(row.Int(0)), TwoViewGeometryFromRow(row, 1));
+  });
 }
 
 // ---- Counts ----

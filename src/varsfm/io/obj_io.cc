@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "varsfm/image/image_file.h"
+#include "varsfm/io/text_line.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
@@ -58,8 +59,7 @@ std::map<std::string, fs::path> ReadMtl(const fs::path& file) {
   if (!in) Fail("{}: cannot open material file", file.string());
   std::map<std::string, fs::path> textures;
   std::string line, current;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  while (ReadTextLine(in, &line)) {
     std::istringstream s(line);
     std::string key;
     s >> key;
@@ -98,9 +98,8 @@ TexturedMesh ReadTexturedObj(const fs::path& obj_file) {
   std::string line;
   size_t line_number = 0;
   try {
-    while (std::getline(in, line)) {
+    while (ReadTextLine(in, &line)) {
       ++line_number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
       std::istringstream s(line);
       std::string key;
       s >> key;

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "varsfm/io/text_line.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/little_endian.h"
 
@@ -69,8 +70,7 @@ Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
   if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
     Fail("{}: not a PLY file", file.string());
   Header header;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  while (ReadTextLine(in, &line)) {
     std::istringstream s(line);
     std::string keyword;
     s >> keyword;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,6 +71,20 @@ class Query {
     if (rc == SQLITE_ROW) return true;
     if (rc == SQLITE_DONE) return false;
     FailSql(db_, what_);
+  }
+
+  // The first row as `from_row(*this)` makes it, or nullopt when the statement yields none.
+  template <typename FromRow>
+  auto FirstRow(FromRow from_row) -> std::optional<decltype(from_row(*this))> {
+    if (!Step()) return std::nullopt;
+    return from_row(*this);
+  }
+  // Every row the statement yields, as `from_row(*this)` makes each.
+  template <typename FromRow>
+  auto AllRows(FromRow from_row) -> std::vector<decltype(from_row(*this))> {
+    std::vector<decltype(from_row(*this))> rows;
+    while (Step()) rows.push_back(from_row(*this));
+    return rows;
   }
 
   int64_t Int(int column) const { return sqlite3_column_int64(stmt_, column); }
