@@ -170,8 +170,8 @@ void VocabularyTree::NumberLeaves() {
 }
 
 VocabularyTree VocabularyTree::Train(const TrainingDescriptors& descriptors,
-                                     const VocabularyTreeOptions& options) {
-  options.Check();
+                                     const VocabularyTreeOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   if (descriptors.cols() != kDim)
     Fail("vocabulary tree: descriptors have {} values, expected {}", descriptors.cols(), kDim);
   const size_t min_members = 2 * static_cast<size_t>(options.branching);

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "varsfm/feature/types.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
@@ -46,9 +47,10 @@ class VocabularyTree {
 
   // Hierarchical k-means over `descriptors` (rows; k-means++ seeding, seeded per node so the
   // tree is the same at any thread count). A node with fewer than 2 x branching descriptors
-  // becomes a leaf.
+  // becomes a leaf. `check`: kDoneByCaller when the caller checked `options` (the match stage).
   static VocabularyTree Train(const TrainingDescriptors& descriptors,
-                              const VocabularyTreeOptions& options);
+                              const VocabularyTreeOptions& options,
+                              OptionsCheck check = OptionsCheck::kByStage);
 
   int branching() const { return branching_; }
   int NumWords() const { return num_words_; }

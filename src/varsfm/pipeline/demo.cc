@@ -23,7 +23,8 @@ DemoSummary RunDemo(const DemoOptions& options) {
   if (!std::filesystem::exists(image_dir)) {
     info("demo: rendering {} images of a synthetic scene (zoom x{:.1f}) into {}",
          options.scene.num_images, options.scene.zoom, image_dir.string());
-    WriteRenderedScene(RenderSyntheticScene(options.scene), image_dir, gt_dir);
+    WriteRenderedScene(RenderSyntheticScene(options.scene, OptionsCheck::kDoneByCaller), image_dir,
+                       gt_dir);
     info("demo: rendered in {:.1f} s", timer.Seconds());
   }
   RunOptions run = options.run;

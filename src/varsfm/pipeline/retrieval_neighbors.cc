@@ -57,7 +57,8 @@ VocabularyTree LoadOrTrain(const Database& db, const std::vector<image_t>& image
       TrainingSample(db, images, static_cast<size_t>(options.vocabulary_sample));
   VocabularyTreeOptions tree_options = options.vocabulary;
   tree_options.seed = options.seed;
-  VocabularyTree tree = VocabularyTree::Train(sample, tree_options);
+  // MatchOptions::Check checked options.vocabulary; the seed is any value.
+  VocabularyTree tree = VocabularyTree::Train(sample, tree_options, OptionsCheck::kDoneByCaller);
   info("match: vocabulary tree of {} words trained on {} descriptors, {:.1f} s", tree.NumWords(),
        sample.rows(), timer.Seconds());
   if (!file.empty()) {

@@ -164,8 +164,8 @@ RandomPhotoView RandomPhotoViewpoint(double street_length, Rng& rng) {
 
 }  // namespace
 
-RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o) {
-  o.Check();
+RenderedScene RenderSyntheticScene(const RenderedSceneOptions& o, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) o.Check();
   Rng rng(o.seed);
   const bool street = o.path != CameraPath::kOrbit;
   const bool back = o.path == CameraPath::kStreetAndBack;

@@ -12,6 +12,7 @@
 
 #include "varsfm/camera/camera.h"
 #include "varsfm/geometry/rigid3.h"
+#include "varsfm/util/option_check.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
@@ -57,7 +58,9 @@ struct RenderedScene {
   std::vector<SurfaceQuad> surface;  // every face of the scene: the exact truth
 };
 
-RenderedScene RenderSyntheticScene(const RenderedSceneOptions& options);
+// `check`: kDoneByCaller when the caller checked `options` (the demo stage).
+RenderedScene RenderSyntheticScene(const RenderedSceneOptions& options,
+                                   OptionsCheck check = OptionsCheck::kByStage);
 
 // Writes images as IMAGE_0000.png ... into `image_dir` and the ground truth in the Strecha
 // layout (NAME.camera: K, 0 0 0, R camera-to-world, C, width height; K in Strecha's convention,
