@@ -116,6 +116,12 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-geometric-iterations",
                  dense->mvs.patchmatch.num_geometric_iterations,
                  "PatchMatch geometric-consistency pass iterations (0: none)");
+  AddWithDefault(cmd, "--dense-planar-iterations", dense->mvs.planar.num_iterations,
+                 "PatchMatch planar-prior pass iterations (0: none)");
+  AddWithDefault(cmd, "--dense-planar-fill-flat", dense->mvs.patchmatch.planar_fill_flat,
+                 "planar prior: flat windows take their prior plane (true/false)");
+  AddWithDefault(cmd, "--dense-min-consistent", dense->mvs.fusion.min_consistent_views,
+                 "other views that must confirm a PatchMatch depth (geometric consistency)");
   AddWithDefault(cmd, "--dense-min-views", dense->mvs.fusion.min_fused_views,
                  "views a fused PatchMatch point needs");
 }

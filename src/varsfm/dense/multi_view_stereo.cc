@@ -95,6 +95,34 @@ void LeaveCovered(const PointCloud& covered, FusionView* view) {
     if (drop[i]) depth[i] = 0;
 }
 
+// The planar-prior pass (planar_prior.h): the anchors are each view's depths of cost at most
+// anchor_max_cost that other views confirm (FilterByGeometricConsistency), so a prior plane spans
+// depths that are right, not merely photometrically plausible; every view is then re-estimated
+// from its map with its prior planes. Deterministic: all priors are built before any map changes.
+void PlanarPriorPass(const std::vector<PatchMatchView>& views,
+                     const std::function<uint32_t(size_t)>& view_index,
+                     const std::function<std::vector<uint32_t>(size_t)>& sources_of,
+                     const std::function<PatchMatchInit(size_t)>& range_of,
+                     const MultiViewStereoOptions& options, std::vector<FusionView>* fusion) {
+  std::vector<FusionView> anchors = *fusion;
+  for (FusionView& v : anchors)
+    for (size_t i = 0; i < v.map.depth.size(); ++i)
+      if (v.map.cost[i] > options.planar.anchor_max_cost) v.map.depth[i] = 0;
+  FilterByGeometricConsistency(&anchors, options.fusion);
+  std::vector<DepthMap> refined(fusion->size());
+  Progress progress("patchmatch (planar prior)", fusion->size());
+  tbb::parallel_for(size_t{0}, fusion->size(), [&](size_t r) {
+    PatchMatchInit init = range_of(r);
+    init.planar = BuildPlanarPrior(anchors[r].map, anchors[r].K, options.planar);
+    refined[r] = RefineDepthMap(views, view_index(r), sources_of(r), {}, (*fusion)[r].map, init,
+                                options.patchmatch,
+                                DeriveSeed(DeriveSeed(options.seed, (*fusion)[r].image_id), 2),
+                                options.planar.num_iterations);
+    progress.Tick();
+  });
+  for (size_t r = 0; r < fusion->size(); ++r) (*fusion)[r].map = std::move(refined[r]);
+}
+
 size_t CountDepths(const std::vector<FusionView>& views) {
   size_t n = 0;
   for (const FusionView& v : views)
@@ -149,6 +177,7 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
 
   std::vector<FusionView> fusion(references.size());
   const bool geometric = options.patchmatch.num_geometric_iterations > 0;
+  const bool planar = options.planar.num_iterations > 0;
   const auto source_indices = [&](image_t id) {
     std::vector<uint32_t> indices;
     for (image_t s : sources.at(id)) indices.push_back(index.at(s));
@@ -168,9 +197,10 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
       PatchMatchInit init = depth_range(id);
       init.prior = PriorDepths(rec, id, view, inputs.prior);
       FusionView& f = fusion[r];
-      // A geometric pass starts from every first-pass hypothesis, the uncertain ones included.
-      f.map = EstimateDepthMap(patchmatch_views, index.at(id), source_indices(id), init,
-                               options.patchmatch, DeriveSeed(options.seed, id), !geometric);
+      // A later pass starts from every first-pass hypothesis, the uncertain ones included.
+      f.map =
+          EstimateDepthMap(patchmatch_views, index.at(id), source_indices(id), init,
+                           options.patchmatch, DeriveSeed(options.seed, id), !geometric && !planar);
       f.image_id = id;
       f.K = view.patchmatch.K;
       f.cam_from_world = view.patchmatch.cam_from_world;
@@ -190,13 +220,19 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
       std::vector<const DepthMap*> source_maps;
       for (image_t s : sources.at(id))
         source_maps.push_back(first_pass.count(s) ? first_pass.at(s) : nullptr);
-      refined[r] = RefineDepthMapGeometrically(
-          patchmatch_views, index.at(id), source_indices(id), source_maps, fusion[r].map,
-          depth_range(id), options.patchmatch, DeriveSeed(DeriveSeed(options.seed, id), 1));
+      refined[r] = RefineDepthMap(patchmatch_views, index.at(id), source_indices(id), source_maps,
+                                  fusion[r].map, depth_range(id), options.patchmatch,
+                                  DeriveSeed(DeriveSeed(options.seed, id), 1),
+                                  options.patchmatch.num_geometric_iterations, !planar);
       progress.Tick();
     });
     for (size_t r = 0; r < references.size(); ++r) fusion[r].map = std::move(refined[r]);
   }
+  if (planar)
+    PlanarPriorPass(
+        patchmatch_views, [&](size_t r) { return index.at(references[r]); },
+        [&](size_t r) { return source_indices(references[r]); },
+        [&](size_t r) { return depth_range(references[r]); }, options, &fusion);
   st.num_views = references.size();
   st.num_depths = CountDepths(fusion);
   st.seconds_patchmatch = timer.Seconds();
@@ -222,6 +258,7 @@ void MultiViewStereoOptions::Check() const {
   CheckAtLeast("--dense-max-image-size", max_image_size, 16);
   sources.Check();
   patchmatch.Check();
+  planar.Check();
   fusion.Check();
 }
 

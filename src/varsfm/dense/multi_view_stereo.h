@@ -10,6 +10,7 @@
 
 #include "varsfm/dense/depth_fusion.h"
 #include "varsfm/dense/patchmatch.h"
+#include "varsfm/dense/planar_prior.h"
 #include "varsfm/dense/source_views.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
@@ -22,6 +23,9 @@ struct MultiViewStereoOptions {
   int max_image_size = 640;
   SourceViewOptions sources;
   PatchMatchOptions patchmatch;
+  // A last pass with the planar prior of each view's confident, consistent depths (0 iterations:
+  // none).
+  PlanarPriorOptions planar;
   DepthFusionOptions fusion;
   uint64_t seed = kDefaultSeed;
 

@@ -76,17 +76,20 @@ class DepthMapEstimator {
  public:
   // `upsampled` (null, or the reference's size): the planes of the next coarser level, or of the
   // photometric pass, a starting hypothesis beside the prior. `source_maps` (null, or one per
-  // source): the sources' depth maps, which add the geometric term to the cost.
+  // source): the sources' depth maps, which add the geometric term to the cost. init.planar (if
+  // not empty) adds the planar prior's term.
   DepthMapEstimator(const std::vector<PatchMatchView>& views, uint32_t reference,
                     const std::vector<uint32_t>& sources, const PatchMatchInit& init,
                     const DepthMap* upsampled, const std::vector<const DepthMap*>* source_maps,
-                    const PatchMatchOptions& options, uint64_t seed)
+                    const PatchMatchOptions& options, uint64_t seed, int num_iterations)
       : options_(options),
         init_(init),
         upsampled_(upsampled),
+        planar_(init.planar.depth.empty() ? nullptr : &init.planar),
         seed_(seed),
         geometric_(source_maps != nullptr),
-        num_iterations_(source_maps ? options.num_geometric_iterations : options.num_iterations) {
+        planar_term_(planar_ != nullptr),
+        num_iterations_(num_iterations) {
     const PatchMatchView& ref = views[reference];
     ref_.pixels = ref.gray.ptr<float>();
     ref_.width = ref.gray.cols;
@@ -129,10 +132,11 @@ class DepthMapEstimator {
         ForEachRow([&](int y) {
           for (int x = (y + colour) % 2; x < map_.width; x += 2) Update(x, y, iteration, colour);
         });
-    if (geometric_ && drop_uncertain) {
+    if ((geometric_ || planar_term_) && drop_uncertain) {
       // The depths are kept or dropped by their photometric cost alone, as after the first pass;
-      // the geometric term only chose among the hypotheses.
+      // the geometric and planar terms only chose among the hypotheses.
       geometric_ = false;
+      planar_term_ = false;
       ForEachRow([&](int y) {
         for (int x = 0; x < map_.width; ++x) {
           const size_t i = map_.Index(x, y);
@@ -143,8 +147,10 @@ class DepthMapEstimator {
         }
       });
     }
-    for (size_t i = 0; i < map_.depth.size(); ++i)
+    for (size_t i = 0; i < map_.depth.size(); ++i) {
+      if (AgreesWithPlanarPrior(i)) continue;
       if (flat_[i] || (drop_uncertain && map_.cost[i] > options_.max_cost)) map_.depth[i] = 0;
+    }
     return std::move(map_);
   }
 
@@ -181,6 +187,33 @@ class DepthMapEstimator {
     w->weight_sum = static_cast<float>(sum_w);
     w->mean = static_cast<float>(sum_v / sum_w);
     w->variance = static_cast<float>(sum_vv / sum_w - (sum_v / sum_w) * (sum_v / sum_w));
+  }
+
+  // The pixel's prior plane as a hypothesis; false where it has none.
+  bool PlanarHypothesis(size_t i, Hypothesis* h) const {
+    if (!planar_ || !(planar_->depth[i] > 0)) return false;
+    *h = {planar_->depth[i], planar_->normal[i]};
+    return true;
+  }
+
+  bool AgreesWithPlanarPrior(size_t i) const {
+    if (!planar_ || !(planar_->depth[i] > 0) || !(map_.depth[i] > 0)) return false;
+    if (flat_[i] && !options_.planar_fill_flat) return false;
+    const float tolerance = 2 * static_cast<float>(options_.planar_depth_sigma) * planar_->depth[i];
+    return std::abs(map_.depth[i] - planar_->depth[i]) <= tolerance;
+  }
+
+  // Xu & Tao 2020's planar prior as a cost (PatchMatchOptions::planar_weight).
+  float PlanarCost(size_t i, const Hypothesis& h) const {
+    const float prior_depth = planar_->depth[i];
+    if (!(prior_depth > 0)) return 0;
+    const float e_d =
+        (h.depth - prior_depth) / (static_cast<float>(options_.planar_depth_sigma) * prior_depth);
+    const float angle = std::acos(std::clamp(h.normal.dot(planar_->normal[i]), -1.0f, 1.0f));
+    const float e_n =
+        angle / static_cast<float>(options_.planar_normal_sigma_deg * std::numbers::pi / 180.0);
+    return static_cast<float>(options_.planar_weight) *
+           (1 - std::exp(-0.5f * (e_d * e_d + e_n * e_n)));
   }
 
   // 1 - bilateral-weighted NCC of the window against its warp into source s (Schoenberger et al.
@@ -243,7 +276,8 @@ class DepthMapEstimator {
     std::partial_sort(costs.begin(), costs.begin() + best, costs.begin() + n);
     float sum = 0;
     for (int i = 0; i < best; ++i) sum += costs[i];
-    return sum / static_cast<float>(best);
+    const float cost = sum / static_cast<float>(best);
+    return planar_term_ ? cost + PlanarCost(map_.Index(x, y), h) : cost;
   }
 
   // A normal facing the camera: flipped when it looks along the viewing ray.
@@ -290,6 +324,11 @@ class DepthMapEstimator {
       consider({init_.prior.depth[i], prior_normal(init_.prior.normal[i])});
     if (upsampled_ && upsampled_->depth[i] > 0)
       consider({upsampled_->depth[i], prior_normal(upsampled_->normal[i])});
+    // A flat pixel takes its prior plane (its cost cannot choose); others weigh it in.
+    if (Hypothesis planar; PlanarHypothesis(i, &planar)) {
+      if (flat_[i]) have = false;
+      consider(planar);
+    }
     if (!have) {
       PixelRandom random(PixelSeed(i, 0));
       const float depth = RandomDepth(random);
@@ -313,6 +352,12 @@ class DepthMapEstimator {
       const float cost = Cost(w, x, y, h);
       if (cost < best_cost) best_cost = cost, best = h;
     };
+    // The prior plane, which the depth range does not bound (it comes from confirmed depths).
+    if (Hypothesis planar; PlanarHypothesis(i, &planar) &&
+                           !(planar.depth == best.depth && planar.normal == best.normal)) {
+      const float cost = Cost(w, x, y, planar);
+      if (cost < best_cost) best_cost = cost, best = planar;
+    }
     // Propagation: the planes of the other colour's pixels at odd offsets (Gipuma's pattern,
     // near and far neighbours along the axes), each intersected with this pixel's ray.
     static constexpr std::array<std::array<int, 2>, 8> kOffsets = {
@@ -352,8 +397,10 @@ class DepthMapEstimator {
   const PatchMatchOptions& options_;
   const PatchMatchInit& init_;
   const DepthMap* upsampled_;
+  const DepthMap* planar_;
   uint64_t seed_;
   bool geometric_;
+  bool planar_term_;
   int num_iterations_;
   SourceGeometry ref_;
   Eigen::Matrix3f K_inv_;
@@ -456,7 +503,8 @@ DepthMap EstimateLevels(const std::vector<PatchMatchView>& views, uint32_t refer
     upsampled = UpsamplePlanes(coarse, half[reference].K, ref.gray.cols, ref.gray.rows, ref.K);
   }
   return DepthMapEstimator(views, reference, sources, init,
-                           upsampled.depth.empty() ? nullptr : &upsampled, nullptr, options, seed)
+                           upsampled.depth.empty() ? nullptr : &upsampled, nullptr, options, seed,
+                           options.num_iterations)
       .Run(finest);
 }
 
@@ -477,6 +525,9 @@ void CheckInputs(const std::vector<PatchMatchView>& views, uint32_t reference,
   if (!init.prior.depth.empty() &&
       (init.prior.width != ref.gray.cols || init.prior.height != ref.gray.rows))
     Fail("patchmatch: prior depth map of view {} has another size", reference);
+  if (!init.planar.depth.empty() &&
+      (init.planar.width != ref.gray.cols || init.planar.height != ref.gray.rows))
+    Fail("patchmatch: planar prior of view {} has another size", reference);
 }
 
 }  // namespace
@@ -494,19 +545,33 @@ DepthMap RefineDepthMapGeometrically(const std::vector<PatchMatchView>& views, u
                                      const std::vector<const DepthMap*>& source_maps,
                                      const DepthMap& start, const PatchMatchInit& init,
                                      const PatchMatchOptions& options, uint64_t seed) {
+  if (source_maps.size() != sources.size())
+    Fail("patchmatch: {} source depth maps for {} source views of view {}", source_maps.size(),
+         sources.size(), reference);
+  return RefineDepthMap(views, reference, sources, source_maps, start, init, options, seed,
+                        options.num_geometric_iterations);
+}
+
+DepthMap RefineDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
+                        const std::vector<uint32_t>& sources,
+                        const std::vector<const DepthMap*>& source_maps, const DepthMap& start,
+                        const PatchMatchInit& init, const PatchMatchOptions& options, uint64_t seed,
+                        int num_iterations, bool drop_uncertain) {
   CheckInputs(views, reference, sources, init);
   const PatchMatchView& ref = views[reference];
   if (start.width != ref.gray.cols || start.height != ref.gray.rows)
     Fail("patchmatch: starting depth map of view {} has another size", reference);
-  if (source_maps.size() != sources.size())
+  if (!source_maps.empty() && source_maps.size() != sources.size())
     Fail("patchmatch: {} source depth maps for {} source views of view {}", source_maps.size(),
          sources.size(), reference);
-  for (size_t k = 0; k < sources.size(); ++k)
+  for (size_t k = 0; k < source_maps.size(); ++k)
     if (source_maps[k] && (source_maps[k]->width != views[sources[k]].gray.cols ||
                            source_maps[k]->height != views[sources[k]].gray.rows))
       Fail("patchmatch: depth map of source view {} has another size", sources[k]);
-  return DepthMapEstimator(views, reference, sources, init, &start, &source_maps, options, seed)
-      .Run(true);
+  return DepthMapEstimator(views, reference, sources, init, &start,
+                           source_maps.empty() ? nullptr : &source_maps, options, seed,
+                           num_iterations)
+      .Run(drop_uncertain);
 }
 
 void PatchMatchOptions::Check() const {
@@ -519,6 +584,9 @@ void PatchMatchOptions::Check() const {
   CheckInRange("--dense-geometric-iterations", num_geometric_iterations, 0, 50);
   CheckNonNegative("patchmatch geometric_weight", geometric_weight);
   CheckPositive("patchmatch geometric_max_error", geometric_max_error);
+  CheckNonNegative("patchmatch planar_weight", planar_weight);
+  CheckPositive("patchmatch planar_depth_sigma", planar_depth_sigma);
+  CheckPositive("patchmatch planar_normal_sigma_deg", planar_normal_sigma_deg);
   CheckInRange("patchmatch num_best_views", num_best_views, 1, kMaxSources);
   CheckInRange("patchmatch max_cost", max_cost, 0.0, 2.0);
   CheckNonNegative("patchmatch min_ncc_variance", min_ncc_variance);

@@ -39,6 +39,17 @@ struct PatchMatchOptions {
   int num_geometric_iterations = 0;
   double geometric_weight = 0.3;
   double geometric_max_error = 3.0;
+  // The planar prior's term (planar_prior.h; Xu & Tao 2020): a hypothesis pays planar_weight x
+  // (1 - exp(-(e_d^2 + e_n^2) / 2)), e_d its depth's difference from the prior plane's over
+  // planar_depth_sigma x that depth, e_n its normal's angle to the plane's over
+  // planar_normal_sigma_deg, so the prior decides where the photometric cost is nearly flat and
+  // gives way where it has a clear minimum elsewhere.
+  double planar_weight = 0.2;
+  double planar_depth_sigma = 0.02;
+  double planar_normal_sigma_deg = 15.0;
+  // Whether flat windows (min_ncc_variance) take their prior plane: a blank wall between textured
+  // edges, but also the sky between a roof's spires, which other views' priors span alike.
+  bool planar_fill_flat = true;
   int num_best_views = 2;          // the cost is the mean of this many lowest per-view costs
   double max_cost = 0.6;           // 1 - NCC above which a pixel's depth is dropped at the end
   double min_ncc_variance = 1e-5;  // reference windows flatter than this get no depth
@@ -69,6 +80,12 @@ struct DepthMap {
 struct PatchMatchInit {
   float min_depth = 0, max_depth = 0;
   DepthMap prior;  // empty, or the reference view's size
+  // Prior planes (planar_prior.h) that a second pass (RefineDepthMap) weighs into the cost:
+  // empty, or the reference view's size, depth 0 where none. A pixel whose final depth agrees
+  // with its prior plane (within 2 planar_depth_sigma) keeps it whatever its photometric cost,
+  // a flat one included: in weak texture the photometric cost cannot confirm a depth, and
+  // geometric consistency across views is left to judge it (depth_fusion.h).
+  DepthMap planar;
 };
 
 // The depth map of views[reference] against views[s] for s in `sources`. `seed` fixes every
@@ -78,6 +95,16 @@ DepthMap EstimateDepthMap(const std::vector<PatchMatchView>& views, uint32_t ref
                           const std::vector<uint32_t>& sources, const PatchMatchInit& init,
                           const PatchMatchOptions& options, uint64_t seed,
                           bool drop_uncertain = true);
+
+// A second pass of `num_iterations` sweeps over views[reference], started from `start` (a first
+// pass's map, uncertain depths included): with the geometric term when `source_maps` is not empty
+// (as RefineDepthMapGeometrically) and the planar prior when init.planar is not empty.
+// `drop_uncertain` as for EstimateDepthMap.
+DepthMap RefineDepthMap(const std::vector<PatchMatchView>& views, uint32_t reference,
+                        const std::vector<uint32_t>& sources,
+                        const std::vector<const DepthMap*>& source_maps, const DepthMap& start,
+                        const PatchMatchInit& init, const PatchMatchOptions& options, uint64_t seed,
+                        int num_iterations, bool drop_uncertain = true);
 
 // The geometric pass (options.num_geometric_iterations sweeps) of views[reference], started from
 // its first-pass map `start`; `source_maps[k]` is the first-pass map of views[sources[k]] (null:
