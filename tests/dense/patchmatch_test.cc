@@ -197,6 +197,12 @@ TEST(MultiViewStereo, OptionsAreChecked) {
   // Refused whatever the method, so that a mistyped setting is not silently ignored.
   options.method = DenseMethod::kPropagation;
   EXPECT_THROW(options.Check(), OptionError);
+  options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+  options.mvs.planar.num_iterations = -1;
+  EXPECT_THROW(options.Check(), OptionError);
+  options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+  options.mvs.patchmatch.planar_depth_sigma = 0;
+  EXPECT_THROW(options.Check(), OptionError);
 }
 
 }  // namespace
