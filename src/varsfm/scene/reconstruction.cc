@@ -34,11 +34,29 @@ void Reconstruction::AddImage(Image image) {
   images_[id] = std::move(image);
 }
 
+void Reconstruction::RegisterImage(image_t id) {
+  Image& image = images_.at(id);
+  if (image.registered) return;
+  image.registered = true;
+  if (observer_.observer) observer_.observer->ImageRegistrationChanged(image);
+}
+
 void Reconstruction::DeRegisterImage(image_t id) {
   Image& image = images_.at(id);
   for (point2D_t idx = 0; idx < image.points2D.size(); ++idx)
     if (image.points2D[idx].HasPoint3D()) DeleteObservation(id, idx);
+  if (!image.registered) return;
   image.registered = false;
+  if (observer_.observer) observer_.observer->ImageRegistrationChanged(image);
+}
+
+void Reconstruction::SetPoint3DId(const TrackElement& element, point3D_t point3D_id) {
+  Image& image = images_.at(element.image_id);
+  Point2D& p2 = image.points2D.at(element.point2D_idx);
+  const bool had = p2.HasPoint3D();
+  p2.point3D_id = point3D_id;
+  if (observer_.observer && had != p2.HasPoint3D())
+    observer_.observer->PointTriangulationChanged(image, element.point2D_idx, p2.HasPoint3D());
 }
 
 std::vector<image_t> Reconstruction::RegisteredImageIds() const {
@@ -53,7 +71,7 @@ size_t Reconstruction::NumRegisteredImages() const { return RegisteredImageIds()
 point3D_t Reconstruction::AddPoint3D(const Eigen::Vector3d& xyz, std::vector<TrackElement> track,
                                      const Eigen::Matrix<uint8_t, 3, 1>& color) {
   const point3D_t id = next_point3D_id_++;
-  for (const auto& el : track) images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = id;
+  for (const auto& el : track) SetPoint3DId(el, id);
   Point3D& point = points3D_[id];
   point.xyz = xyz;
   point.color = color;
@@ -62,15 +80,14 @@ point3D_t Reconstruction::AddPoint3D(const Eigen::Vector3d& xyz, std::vector<Tra
 }
 
 void Reconstruction::AddObservation(point3D_t point3D_id, const TrackElement& element) {
-  images_.at(element.image_id).points2D.at(element.point2D_idx).point3D_id = point3D_id;
+  SetPoint3DId(element, point3D_id);
   points3D_.at(point3D_id).track.push_back(element);
 }
 
 void Reconstruction::DeleteObservation(image_t image_id, point2D_t point2D_idx) {
-  Point2D& p2 = images_.at(image_id).points2D.at(point2D_idx);
-  const point3D_t id = p2.point3D_id;
+  const point3D_t id = images_.at(image_id).points2D.at(point2D_idx).point3D_id;
   if (id == kInvalidPoint3DId) return;
-  p2.point3D_id = kInvalidPoint3DId;
+  SetPoint3DId({image_id, point2D_idx}, kInvalidPoint3DId);
   auto& track = points3D_.at(id).track;
   std::erase_if(track, [&](const TrackElement& el) {
     return el.image_id == image_id && el.point2D_idx == point2D_idx;
@@ -81,8 +98,7 @@ void Reconstruction::DeleteObservation(image_t image_id, point2D_t point2D_idx) 
 void Reconstruction::DeletePoint3D(point3D_t point3D_id) {
   const auto it = points3D_.find(point3D_id);
   if (it == points3D_.end()) return;
-  for (const auto& el : it->second.track)
-    images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = kInvalidPoint3DId;
+  for (const auto& el : it->second.track) SetPoint3DId(el, kInvalidPoint3DId);
   points3D_.erase(it);
 }
 
@@ -92,7 +108,7 @@ point3D_t Reconstruction::MergePoints3D(point3D_t id1, point3D_t id2) {
   const double w1 = static_cast<double>(p1.track.size()), w2 = static_cast<double>(p2.track.size());
   p1.xyz = (w1 * p1.xyz + w2 * p2.xyz) / (w1 + w2);
   for (const auto& el : p2.track) {
-    images_.at(el.image_id).points2D.at(el.point2D_idx).point3D_id = id1;
+    SetPoint3DId(el, id1);
     p1.track.push_back(el);
   }
   points3D_.erase(id2);

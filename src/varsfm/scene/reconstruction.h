@@ -48,6 +48,19 @@ struct Image {
   Eigen::Vector3d Center() const { return cam_from_world.Center(); }
 };
 
+// Told of every change of which 2D points of which registered images have a 3D point, as it
+// happens: a 2D point that gains or loses its 3D point, an image registered or unregistered.
+// The incremental mapper follows the model through it instead of rescanning every image after
+// each registration (sfm/visible_point_counts.h).
+class ReconstructionObserver {
+ public:
+  virtual ~ReconstructionObserver() = default;
+  // Point `idx` of `image` now has a 3D point (`triangulated`) or no longer has one.
+  virtual void PointTriangulationChanged(const Image& image, point2D_t idx, bool triangulated) = 0;
+  // `image` was registered or unregistered (its 2D points keep their 3D points across the call).
+  virtual void ImageRegistrationChanged(const Image& image) = 0;
+};
+
 class Reconstruction {
  public:
   void AddCamera(const Camera& camera);  // keyed by camera.camera_id
@@ -71,7 +84,7 @@ class Reconstruction {
   const std::map<point3D_t, Point3D>& points3D() const { return points3D_; }
   std::map<point3D_t, Point3D>& points3D() { return points3D_; }
 
-  void RegisterImage(image_t id) { images_.at(id).registered = true; }
+  void RegisterImage(image_t id);
   // Unregisters and removes the image's observations from every track.
   void DeRegisterImage(image_t id);
   std::vector<image_t> RegisteredImageIds() const;
@@ -108,11 +121,26 @@ class Reconstruction {
   size_t FilterPointsWithSmallTriangulationAngle(double min_angle_deg,
                                                  const std::vector<image_t>& image_ids = {});
 
+  // The observer told of every change from now on (null: none). It belongs to this object, not
+  // to its contents: a copy starts without one, and an assignment, which replaces the contents
+  // without telling, keeps this object's (so an observed model must not be assigned to).
+  void SetObserver(ReconstructionObserver* observer) { observer_.observer = observer; }
+
  private:
+  struct ObserverSlot {
+    ReconstructionObserver* observer = nullptr;
+    ObserverSlot() = default;
+    ObserverSlot(const ObserverSlot&) {}
+    ObserverSlot& operator=(const ObserverSlot&) { return *this; }
+  };
+  // Sets the 2D point's 3D point id, telling the observer when whether it has one changes.
+  void SetPoint3DId(const TrackElement& element, point3D_t point3D_id);
+
   std::map<camera_t, Camera> cameras_;
   std::map<image_t, Image> images_;
   std::map<point3D_t, Point3D> points3D_;
   point3D_t next_point3D_id_ = 1;
+  ObserverSlot observer_;
 };
 
 }  // namespace varsfm

@@ -111,9 +111,11 @@ void IncrementalMapper::RegisterAll(Reconstruction* rec, MapperSummary* summary)
   const BundleAdjustmentScheduleOptions& schedule_options = options_.adjustment;
   BundleAdjustmentSchedule schedule(schedule_options);
   double progress_rms = -1.0;
+  VisiblePointCounts counts(graph_);
+  const ObservedReconstruction observed(rec, &counts);
   while (true) {
     bool registered_any = false;
-    for (const image_t image_id : NextImageCandidates(*rec)) {
+    for (const image_t image_id : NextImageCandidates(*rec, counts)) {
       Timer reg_timer;
       const bool ok = RegisterImage(rec, image_id);
       summary->seconds_registration += reg_timer.Seconds();
@@ -270,35 +272,16 @@ void IncrementalMapper::ExtendFrontier(image_t registered) {
   for (const image_t id : graph_.NeighborsOf(registered)) frontier_.insert(id);
 }
 
-std::vector<image_t> IncrementalMapper::NextImageCandidates(const Reconstruction& rec) const {
-  // Score: the number of the image's 2D points whose tracks reach a reconstructed 3D point.
+std::vector<image_t> IncrementalMapper::NextImageCandidates(
+    const Reconstruction& rec, const VisiblePointCounts& counts) const {
+  // Score: the number of the image's 2D points whose tracks reach a reconstructed 3D point, kept
+  // by `counts` as the model changes. An image that matches no registered one scores 0.
   std::vector<std::pair<size_t, image_t>> scored;
   image_t last_registered = registration_order_.empty() ? 0 : registration_order_.back();
   for (const image_t image_id : frontier_) {
     if (!rec.ExistsImage(image_id)) continue;  // frontier_ holds graph images only
-    const Image& image = rec.image(image_id);
-    if (image.registered) continue;
-    // Only images that match a registered one can see reconstructed points: on a sequence
-    // that is the few next to the registered ones, and the scan below stays bounded.
-    const auto& neighbors = graph_.NeighborsOf(image_id);
-    if (std::none_of(neighbors.begin(), neighbors.end(),
-                     [&rec](image_t id) { return rec.image(id).registered; }))
-      continue;
-    // For sequential input only the threshold matters (the order is the sequence's), and
-    // the count stops there: counting all took 4 % of a 1000-image street's mapping.
-    const size_t enough = options_.sequential_order
-                              ? static_cast<size_t>(options_.registration.min_correspondences)
-                              : std::numeric_limits<size_t>::max();
-    size_t visible = 0;
-    for (point2D_t idx = 0; idx < image.points2D.size() && visible < enough; ++idx) {
-      for (const auto& corr : graph_.CorrespondencesOf(image_id, idx)) {
-        const Image& other = rec.image(corr.image_id);
-        if (other.registered && other.points2D[corr.point2D_idx].HasPoint3D()) {
-          ++visible;
-          break;
-        }
-      }
-    }
+    if (rec.image(image_id).registered) continue;
+    const size_t visible = counts.VisiblePoints(image_id);
     if (visible < static_cast<size_t>(options_.registration.min_correspondences)) continue;
     size_t key = visible;
     if (options_.sequential_order) {
@@ -350,7 +333,9 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   // a parabola in log(scale) through the bracket. On entry-P10 (true f 920 px, prior 1229 px)
   // the search picks 907 px, where a model grown from the prior lets its focal lengths drift
   // (docs/measurements.md).
-  const std::vector<image_t> next = NextImageCandidates(*rec);
+  VisiblePointCounts counts(graph_);
+  counts.Recount(*rec);
+  const std::vector<image_t> next = NextImageCandidates(*rec, counts);
   if (next.empty()) return;
   const image_t probe = next.front();
   // A trial skips the mapper's two-view adjustment (the calibration's own, with the focal

@@ -27,6 +27,7 @@
 #include "varsfm/sfm/initial_pair.h"
 #include "varsfm/sfm/intrinsics_policy.h"
 #include "varsfm/sfm/track_triangulation.h"
+#include "varsfm/sfm/visible_point_counts.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
@@ -142,7 +143,9 @@ class IncrementalMapper {
   // Registers the next images one by one, each followed by the adjustment the schedule says;
   // failed ones are retried after later successes.
   void RegisterAll(Reconstruction* rec, MapperSummary* summary);
-  std::vector<image_t> NextImageCandidates(const Reconstruction& rec) const;
+  // The unregistered images of the frontier that see enough reconstructed points, best first.
+  std::vector<image_t> NextImageCandidates(const Reconstruction& rec,
+                                           const VisiblePointCounts& counts) const;
   // Adds the matching-graph neighbours of an image just registered to frontier_.
   void ExtendFrontier(image_t registered);
   void LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary);
