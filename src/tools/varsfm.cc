@@ -122,6 +122,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "planar prior: flat windows take their prior plane (true/false)");
   AddWithDefault(cmd, "--dense-min-consistent", dense->mvs.fusion.min_consistent_views,
                  "other views that must confirm a PatchMatch depth (geometric consistency)");
+  AddWithDefault(cmd, "--dense-two-view-cost", dense->mvs.fusion.two_view_max_cost,
+                 "PatchMatch depths of at most this cost need one confirming view and fuse with "
+                 "two (0: none)");
   AddWithDefault(cmd, "--dense-min-views", dense->mvs.fusion.min_fused_views,
                  "views a fused PatchMatch point needs");
 }

@@ -75,6 +75,12 @@ int ConsistentViews(const std::vector<FusionView>& views, const std::vector<View
   return consistent;
 }
 
+// Whether depth i of `map` is confident enough to stand on two views (two_view_max_cost).
+bool TwoViewDepth(const DepthMap& map, size_t i, const DepthFusionOptions& options) {
+  return options.two_view_max_cost > 0 && !map.cost.empty() &&
+         map.cost[i] <= options.two_view_max_cost;
+}
+
 }  // namespace
 
 void FilterByGeometricConsistency(std::vector<FusionView>* views,
@@ -88,8 +94,10 @@ void FilterByGeometricConsistency(std::vector<FusionView>* views,
     tbb::parallel_for(0, map.height, [&](int y) {
       for (int x = 0; x < map.width; ++x)
         if (map.depth[map.Index(x, y)] > 0)
-          keep[v][map.Index(x, y)] =
-              ConsistentViews(*views, geometry, v, x, y, options) >= options.min_consistent_views;
+          keep[v][map.Index(x, y)] = ConsistentViews(*views, geometry, v, x, y, options) >=
+                                     (TwoViewDepth(map, map.Index(x, y), options)
+                                          ? std::min(options.min_consistent_views, 1)
+                                          : options.min_consistent_views);
     });
   });
   for (size_t v = 0; v < views->size(); ++v) {
@@ -144,7 +152,9 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
           seen_by.push_back(views[u].image_id);
         }
         // A pixel of a point too few views agree on stays free to join a later point.
-        if (seen_by.size() < static_cast<size_t>(options.min_fused_views)) continue;
+        const int min_views = TwoViewDepth(map, i, options) ? std::min(options.min_fused_views, 2)
+                                                            : options.min_fused_views;
+        if (seen_by.size() < static_cast<size_t>(min_views)) continue;
         for (const auto& [view, pixel] : members) fused[view][pixel] = 1;
         const double count = static_cast<double>(seen_by.size());
         cloud.points.push_back(sum_x / count);
@@ -168,6 +178,7 @@ void DepthFusionOptions::Check() const {
   CheckInRange("fusion max_normal_angle_deg", max_normal_angle_deg, 0.0, 180.0);
   CheckInRange("--dense-min-consistent", min_consistent_views, 0, 64);
   CheckInRange("--dense-min-views", min_fused_views, 1, 64);
+  CheckInRange("--dense-two-view-cost", two_view_max_cost, 0.0, 2.0);
 }
 
 }  // namespace varsfm

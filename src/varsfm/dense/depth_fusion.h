@@ -29,6 +29,10 @@ struct DepthFusionOptions {
   double max_normal_angle_deg = 30.0;
   int min_consistent_views = 2;  // other views agreeing with a depth for it to stay
   int min_fused_views = 3;       // views (the starting one included) a point needs
+  // A surface near the cameras or at the edge of the capture is seen by only two views, which
+  // the counts above leave out however right its depths. A depth whose photometric cost is at
+  // most this needs one confirming view and fuses with two (0: no such exception).
+  double two_view_max_cost = 0;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
