@@ -33,9 +33,11 @@ size_t Kept(const std::vector<FusionView>& views) {
 }
 
 TEST(DepthFusion, TwoViewSurfaceIsKeptOnlyWhereItsCostAllows) {
-  // By default a depth needs two confirming views: two views of the plane keep nothing.
+  // Without the exception a depth needs two confirming views: two views of the plane keep
+  // nothing.
   std::vector<FusionView> views = {PlaneView(0, 0.1f), PlaneView(1, 0.1f)};
   DepthFusionOptions options;
+  options.two_view_max_cost = 0;
   FilterByGeometricConsistency(&views, options);
   EXPECT_EQ(Kept(views), 0u);
 

@@ -150,7 +150,9 @@ TEST(PlanarPrior, CarriesTheWallAcrossItsBlankMiddle) {
   for (FusionView& v : anchors)
     for (size_t i = 0; i < v.map.depth.size(); ++i)
       if (v.map.cost[i] > planar.anchor_max_cost) v.map.depth[i] = 0;
-  FilterByGeometricConsistency(&anchors, DepthFusionOptions{});
+  DepthFusionOptions strict;
+  strict.two_view_max_cost = 0;
+  FilterByGeometricConsistency(&anchors, strict);
   PatchMatchInit planar_init = init;
   planar_init.planar = BuildPlanarPrior(anchors[0].map, views[0].K, planar);
   const DepthMap refined =

@@ -108,7 +108,9 @@ void PlanarPriorPass(const std::vector<PatchMatchView>& views,
   for (FusionView& v : anchors)
     for (size_t i = 0; i < v.map.depth.size(); ++i)
       if (v.map.cost[i] > options.planar.anchor_max_cost) v.map.depth[i] = 0;
-  FilterByGeometricConsistency(&anchors, options.fusion);
+  DepthFusionOptions strict = options.fusion;
+  strict.two_view_max_cost = 0;  // an anchor spans a triangle: two confirming views, always
+  FilterByGeometricConsistency(&anchors, strict);
   std::vector<DepthMap> refined(fusion->size());
   Progress progress("patchmatch (planar prior)", fusion->size());
   tbb::parallel_for(size_t{0}, fusion->size(), [&](size_t r) {
