@@ -1,11 +1,14 @@
-// `densify` as the pipeline runs it: bad input (a missing, empty or one-image sparse model)
-// stops with one varsfm::Error line naming the model, and nothing is written.
+// `densify` as the pipeline runs it: bad input (a missing, empty or one-image sparse model, or
+// one too small to confirm any depth) stops with one varsfm::Error line, and nothing is written.
 #include "varsfm/pipeline/densify.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "support/test_data.h"
 #include "varsfm/io/colmap_model.h"
+#include "varsfm/synthetic/rendered_scene.h"
+#include "varsfm/synthetic/rendered_truth.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -58,6 +61,29 @@ TEST(DensifyCommand, OneImageModelIsAnError) {
   const std::string message = DensifyError(tmp.path() / "sparse", tmp);
   EXPECT_NE(message.find("1 registered image"), std::string::npos) << message;
   EXPECT_NE(message.find("sparse"), std::string::npos) << message;
+}
+
+// Two true views of the rendered scene: PatchMatch finds depths, but a depth is kept only where
+// two other views confirm it, so no point can come out; the error says so instead of a later
+// stage meeting an empty dense.ply.
+TEST(DensifyCommand, TwoImageModelExplainsTheEmptyCloud) {
+  const TempDir tmp("densify_two");
+  RenderedSceneOptions render;
+  render.num_images = 2;
+  render.width = 160;
+  render.height = 120;
+  render.focal_start = 0.8 * render.width;
+  const RenderedScene scene = RenderSyntheticScene(render);
+  WriteRenderedScene(scene, tmp.path(), tmp.path() / "gt");
+  Reconstruction rec = SparseModelFromRenderedScene(scene, 8);
+  int index = 0;  // the model's images in the order, and under the names, they were written
+  for (const auto& [id, image] : rec.images())
+    rec.image(id).name = fmt::format("image_{:04d}.png", index++);
+  WriteColmapModel(rec, tmp.path() / "sparse");
+  const std::string message = DensifyError(tmp.path() / "sparse", tmp);
+  EXPECT_NE(message.find("2 registered images"), std::string::npos) << message;
+  EXPECT_NE(message.find("3 views agree"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
 }  // namespace

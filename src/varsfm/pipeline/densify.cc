@@ -49,6 +49,25 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
   WriteJsonAtomically(file, summary);
 }
 
+// Why a dense stage can end with no point: PatchMatch keeps a depth only where
+// min_consistent_views other views confirm it, so fewer registered images than that plus one
+// can never give a point; with more, the views share too little surface.
+std::string EmptyCloudMessage(const Reconstruction& rec, const DenseReconstructionOptions& dense) {
+  const size_t registered = rec.NumRegisteredImages();
+  if (dense.method != DenseMethod::kPropagation) {
+    const int needed = dense.mvs.fusion.min_consistent_views + 1;
+    if (registered < static_cast<size_t>(needed))
+      return fmt::format(
+          "densify: no dense point: the model has {} registered images, and a depth is kept only "
+          "where {} views agree (--dense-min-consistent {}); add photos of the scene",
+          registered, needed, dense.mvs.fusion.min_consistent_views);
+  }
+  return fmt::format(
+      "densify: no dense point from {} registered images: no depth was confirmed across views "
+      "(too little overlap or texture)",
+      registered);
+}
+
 }  // namespace
 
 void DensifyOptions::Check() const {
@@ -72,6 +91,9 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   result.method = options.dense.method;
   PointVisibility visibility;
   const PointCloud cloud = Densify(rec, load, options.dense, &result.stats, &visibility);
+  // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
+  // mesh stage to pick up.
+  if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
   std::filesystem::create_directories(options.output);
   WritePly(options.output / "dense.ply", cloud);
   WritePointVisibility(options.output / "dense.ply.vis", visibility);
