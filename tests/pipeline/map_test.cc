@@ -159,5 +159,32 @@ TEST(MapStage, ConnectedSceneGivesOneModel) {
   EXPECT_TRUE(summary["images_in_no_model"].empty());
 }
 
+// A new model in a folder where an earlier run left the later stages' results: those were made
+// from the old model, so they go (a failed densify would otherwise leave the old mesh and
+// textured model beside the new cameras); what is not a stage's output stays.
+TEST(MapStage, ResultsOfTheEarlierModelGo) {
+  testing::TempDir tmp("map_stale");
+  {
+    Database db(tmp.path() / "workspace.db");
+    AddToWorkspace(GenerateSyntheticScene(Group(6, 7)), "image", &db);
+  }
+  MapOptions options;
+  options.workspace = tmp.path() / "workspace.db";
+  options.output = tmp.path() / "out";
+  const std::vector<fs::path> stale = {"dense.ply",  "dense.ply.vis", "dense_summary.json",
+                                       "mesh.ply",   "model.glb",     "textured/model.obj",
+                                       "report.html"};
+  for (const fs::path& file : stale) {
+    fs::create_directories((options.output / file).parent_path());
+    std::ofstream(options.output / file) << "from an earlier model";
+  }
+  std::ofstream(options.output / "notes.txt") << "the user's";
+  RunMapping(options);
+  for (const fs::path& file : stale) EXPECT_FALSE(fs::exists(options.output / file)) << file;
+  EXPECT_FALSE(fs::exists(options.output / "textured"));
+  EXPECT_TRUE(fs::exists(options.output / "notes.txt"));
+  EXPECT_TRUE(fs::exists(options.output / "sparse" / "0" / "images.bin"));
+}
+
 }  // namespace
 }  // namespace varsfm
