@@ -192,7 +192,12 @@ TEST(OptionsCheck, Run) {
             [](auto& o) { o.map.mapper.adjustment.global_ba_function_tolerance = -1; }},
            {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kInf; }},
            {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
-           {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }}});
+           {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }},
+           {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = kNan; }},
+           {"--holdout", [](auto& o) { o.holdout = -1; }},
+           // The report's, before the first stage rather than as a warning at the end.
+           {"--max-points", [](auto& o) { o.report.data.max_view_points = 0; }},
+           {"model.jpeg_quality", [](auto& o) { o.report.data.model.jpeg_quality = 0; }}});
 }
 
 TEST(OptionsCheck, Demo) {
