@@ -7,6 +7,7 @@
 
 #include "varsfm/report/base64.h"
 #include "varsfm/report/report_charts.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
@@ -25,8 +26,6 @@ double Quantile(std::vector<double> values, double fraction) {
   std::nth_element(values.begin(), values.begin() + k, values.end());
   return values[k];
 }
-
-double Median(std::vector<double> values) { return Quantile(std::move(values), 0.5); }
 
 // The scene's middle: the per-axis median of the points (robust to stray points), or of the
 // camera centres when there are no points.

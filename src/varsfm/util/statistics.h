@@ -1,0 +1,12 @@
+#pragma once
+// Order statistics of samples, one definition for every module that summarises distances,
+// depths or sharpness by their median.
+#include <vector>
+
+namespace varsfm {
+
+// The element of rank size / 2 of `values` (for an even count the upper of the two middle
+// values, so the result is always a sample); 0 when there are none.
+double Median(std::vector<double> values);
+
+}  // namespace varsfm
