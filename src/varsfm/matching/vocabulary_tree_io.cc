@@ -10,6 +10,7 @@
 
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/fnv1a.h"
 #include "varsfm/util/little_endian.h"
 
 namespace varsfm {
@@ -22,15 +23,6 @@ constexpr char kMagic[8] = {'V', 'S', 'F', 'M', 'V', 'O', 'C', '\0'};
 constexpr size_t kHeaderBytes = sizeof(kMagic) + 4 * sizeof(uint32_t);
 constexpr size_t kNodeBytes = 2 * sizeof(uint32_t);
 constexpr size_t kCentreBytes = VocabularyTree::kDimension * sizeof(float);
-
-uint64_t Fnv1a(const char* data, size_t size) {
-  uint64_t hash = 0xcbf29ce484222325ull;
-  for (size_t i = 0; i < size; ++i) {
-    hash ^= static_cast<unsigned char>(data[i]);
-    hash *= 0x100000001b3ull;
-  }
-  return hash;
-}
 
 // The value at `offset`, which moves past it.
 template <typename T>
