@@ -19,14 +19,6 @@ nlohmann::json Array(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 constexpr double kVerticalFovDeg = 50;
 constexpr double kViewAspect = 1.25;
 
-// The value below which `fraction` of `values` lie; 0 for none.
-double Quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
 // The scene's middle: the per-axis median of the points (robust to stray points), or of the
 // camera centres when there are no points.
 Eigen::Vector3d SceneCenter(const ReportData& data, const std::vector<Eigen::Vector3d>& centers) {
