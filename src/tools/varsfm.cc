@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <utility>
@@ -127,6 +128,21 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "two (0: none)");
   AddWithDefault(cmd, "--dense-min-views", dense->mvs.fusion.min_fused_views,
                  "views a fused PatchMatch point needs");
+}
+
+// The sparse model and its photos of the stages that read both (densify and texture).
+void AddModelAndPhotosOptions(CLI::App* cmd, std::filesystem::path* sparse,
+                              std::filesystem::path* image_dir) {
+  cmd->add_option("--sparse", *sparse,
+                  "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
+      ->required();
+  cmd->add_option("--images", *image_dir, "image folder")->required();
+}
+
+// The held-out views a stage leaves out (densify and texture; scene/holdout.h).
+void AddHoldoutOption(CLI::App* cmd, int* holdout) {
+  cmd->add_option("--holdout", *holdout,
+                  "leave every N-th registered image (by name) out (0: none)");
 }
 
 void AddLogLevelOption(CLI::App* app) {
@@ -337,17 +353,13 @@ void AddDensifyCommand(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "densify", "dense point cloud by match propagation and/or PatchMatch depth maps");
   cmd->add_option("--workspace", options->workspace, "workspace database (optional)");
-  cmd->add_option("--sparse", options->sparse,
-                  "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
-      ->required();
-  cmd->add_option("--images", options->image_dir, "image folder")->required();
+  AddModelAndPhotosOptions(cmd, &options->sparse, &options->image_dir);
   cmd->add_option("--output", options->output, "output folder (dense.ply)")->required();
   AddWithDefault(cmd, "--max-image-size", options->dense.max_image_size, "matching image size");
   AddWithDefault(cmd, "--partners", options->dense.max_partners, "partners per image (1 to 10)");
   AddWithDefault(cmd, "--min-zncc", options->dense.propagation.min_zncc,
                  "ZNCC threshold (-1 to 1)");
-  cmd->add_option("--holdout", options->holdout,
-                  "leave every N-th registered image (by name) out (0: none)");
+  AddHoldoutOption(cmd, &options->holdout);
   AddWithDefault(cmd, "--threads", options->dense.num_threads, "threads (0: all cores)");
   AddDenseMethodOptions(cmd, &options->dense);
   cmd->callback([options] { varsfm::RunDensify(*options); });
@@ -382,10 +394,7 @@ void AddTextureCommand(CLI::App* app) {
   varsfm::TextureMappingOptions& t = options->texture;
   CLI::App* cmd = app->add_subcommand("texture", "texture a mesh from the registered photos");
   cmd->add_option("--mesh", options->mesh, "mesh PLY (mesh.ply)")->required();
-  cmd->add_option("--sparse", options->sparse,
-                  "COLMAP model folder, or its parent holding 0/, 1/, ... (model 0)")
-      ->required();
-  cmd->add_option("--images", options->image_dir, "image folder")->required();
+  AddModelAndPhotosOptions(cmd, &options->sparse, &options->image_dir);
   cmd->add_option("--output", options->output, "output folder (textured/, model.glb)")->required();
   AddWithDefault(cmd, "--smoothness", t.selection.smoothness,
                  "Potts weight grouping faces into charts (0: best image per face)");
@@ -400,8 +409,7 @@ void AddTextureCommand(CLI::App* app) {
   cmd->add_flag("!--no-exposure-gain", t.selection.exposure.enabled, "no per-photo exposure gains");
   cmd->add_flag("!--no-levelling", t.levelling.enabled, "no colour levelling across seams");
   AddWithDefault(cmd, "--padding", t.padding, "photo pixels kept around each chart (0 to 64)");
-  cmd->add_option("--holdout", options->holdout,
-                  "leave every N-th registered image (by name) out (0: none)");
+  AddHoldoutOption(cmd, &options->holdout);
   AddWithDefault(cmd, "--threads", t.selection.observation.num_threads, "threads (0: all cores)");
   cmd->callback([options] { varsfm::RunTexture(*options); });
 }

@@ -92,16 +92,28 @@ TEST(OptionsCheck, Map) {
 
 TEST(OptionsCheck, Densify) {
   ExpectEachRejected<DensifyOptions>(
-      {}, {{"--partners", [](auto& o) { o.dense.max_partners = 0; }},
-           {"--partners", [](auto& o) { o.dense.max_partners = 11; }},
-           {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kNan; }},
-           {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = 1.5; }},
-           {"--max-image-size", [](auto& o) { o.dense.max_image_size = 0; }},
-           {"--threads", [](auto& o) { o.dense.num_threads = -1; }},
-           {"max_pair_angle_deg", [](auto& o) { o.dense.max_pair_angle_deg = 1; }},
-           {"fusion_depth_tolerance", [](auto& o) { o.dense.fusion_depth_tolerance = kNan; }},
-           {"max_epipolar_distance",
-            [](auto& o) { o.dense.propagation.max_epipolar_distance = kInf; }}});
+      {},
+      {{"--partners", [](auto& o) { o.dense.max_partners = 0; }},
+       {"--partners", [](auto& o) { o.dense.max_partners = 11; }},
+       {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kNan; }},
+       {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = 1.5; }},
+       {"--max-image-size", [](auto& o) { o.dense.max_image_size = 0; }},
+       {"--threads", [](auto& o) { o.dense.num_threads = -1; }},
+       {"max_pair_angle_deg", [](auto& o) { o.dense.max_pair_angle_deg = 1; }},
+       {"fusion_depth_tolerance", [](auto& o) { o.dense.fusion_depth_tolerance = kNan; }},
+       {"max_epipolar_distance", [](auto& o) { o.dense.propagation.max_epipolar_distance = kInf; }},
+       // PatchMatch's options (DenseReconstructionOptions::mvs), each algorithm's in turn.
+       {"--dense-max-image-size", [](auto& o) { o.dense.mvs.max_image_size = 8; }},
+       {"--dense-source-views", [](auto& o) { o.dense.mvs.sources.num_source_views = 0; }},
+       {"--dense-depth-range-percentile",
+        [](auto& o) { o.dense.mvs.sources.depth_range_percentile = kNan; }},
+       {"--dense-iterations", [](auto& o) { o.dense.mvs.patchmatch.num_iterations = -1; }},
+       {"patchmatch sigma_color", [](auto& o) { o.dense.mvs.patchmatch.sigma_color = kInf; }},
+       {"planar prior anchor_cell", [](auto& o) { o.dense.mvs.planar.anchor_cell = 0; }},
+       {"fusion max_depth_difference",
+        [](auto& o) { o.dense.mvs.fusion.max_depth_difference = kNan; }},
+       {"--dense-min-views", [](auto& o) { o.dense.mvs.fusion.min_fused_views = 0; }},
+       {"--dense-two-view-cost", [](auto& o) { o.dense.mvs.fusion.two_view_max_cost = 3; }}});
 }
 
 TEST(OptionsCheck, Mesh) {
@@ -135,7 +147,16 @@ TEST(OptionsCheck, Texture) {
        {"border_px", [](auto& o) { o.texture.selection.observation.border_px = kInf; }},
        {"photo_consistency.bandwidth",
         [](auto& o) { o.texture.selection.consistency.bandwidth = 0; }},
+       {"exposure.min_shared_faces",
+        [](auto& o) { o.texture.selection.exposure.min_shared_faces = 0; }},
+       {"exposure.min_level", [](auto& o) { o.texture.selection.exposure.min_level = 0; }},
+       {"exposure.max_level", [](auto& o) { o.texture.selection.exposure.max_level = 4; }},
+       {"exposure.max_level",
+        [](auto& o) { o.texture.selection.exposure.max_level = static_cast<float>(kNan); }},
+       {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = 0.5; }},
+       {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = kInf; }},
        {"levelling.ridge", [](auto& o) { o.texture.levelling.ridge = kNan; }},
+       {"seam.strip_width", [](auto& o) { o.texture.seams.strip_width = 1; }},
        {"max_page_size", [](auto& o) { o.texture.max_page_size = 0; }}});
 }
 
@@ -171,7 +192,12 @@ TEST(OptionsCheck, Run) {
             [](auto& o) { o.map.mapper.adjustment.global_ba_function_tolerance = -1; }},
            {"--min-zncc", [](auto& o) { o.dense.propagation.min_zncc = kInf; }},
            {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
-           {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }}});
+           {"--smoothness", [](auto& o) { o.texture.selection.smoothness = -kInf; }},
+           {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = kNan; }},
+           {"--holdout", [](auto& o) { o.holdout = -1; }},
+           // The report's, before the first stage rather than as a warning at the end.
+           {"--max-points", [](auto& o) { o.report.data.max_view_points = 0; }},
+           {"model.jpeg_quality", [](auto& o) { o.report.data.model.jpeg_quality = 0; }}});
 }
 
 TEST(OptionsCheck, Demo) {

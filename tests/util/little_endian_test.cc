@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -31,6 +32,21 @@ TEST(LittleEndian, ReadsBackWhatItWrote) {
   std::ostringstream one;
   PutLittleEndian<float>(one, 1.0f);
   EXPECT_EQ(one.str(), std::string("\x00\x00\x80\x3F", 4));
+}
+
+// Appending to a byte string or vector gives the bytes the stream writer gives.
+TEST(LittleEndian, AppendsWhatItWouldWrite) {
+  std::string text("x");
+  AppendLittleEndian<uint32_t>(&text, 0x01020304u);
+  AppendLittleEndian<uint16_t>(&text, 0xA0B0u);
+  EXPECT_EQ(text, std::string("x\x04\x03\x02\x01\xB0\xA0", 7));
+  std::vector<uint8_t> bytes;
+  AppendLittleEndian<uint32_t>(&bytes, 0xFF000080u);
+  AppendLittleEndian<double>(&bytes, -1.25e-3);
+  EXPECT_EQ(std::vector<uint8_t>(bytes.begin(), bytes.begin() + 4),
+            (std::vector<uint8_t>{0x80, 0x00, 0x00, 0xFF}));
+  ASSERT_EQ(bytes.size(), 12u);
+  EXPECT_EQ(GetLittleEndian<double>(reinterpret_cast<const char*>(bytes.data() + 4)), -1.25e-3);
 }
 
 }  // namespace

@@ -5,14 +5,10 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "varsfm/geometry/fundamental.h"
+
 namespace varsfm {
 namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 // Relative gap of the two largest singular values of K2^T F K1, zero for an essential matrix.
 double EssentialCost(const Eigen::Matrix3d& F, const Eigen::Vector2d& pp1,
@@ -39,11 +35,13 @@ std::optional<std::pair<double, double>> BougnouxFocalLengths(const Eigen::Matri
   //   f1^2 = -(p2^T [e2]x I F p1)(p1^T F^T p2) / (p2^T [e2]x I F I F^T p2)
   //   f2^2 = -(p1^T [e1]x I F^T p2)(p2^T F p1) / (p1^T [e1]x I F^T I F p1)
   // Both are proportional to p2^T F p1, which vanishes when the optical axes meet.
-  const double den1 = p2.dot(Skew(e2) * I * F * I * F.transpose() * p2);
-  const double den2 = p1.dot(Skew(e1) * I * F.transpose() * I * F * p1);
+  const double den1 = p2.dot(CrossProductMatrix(e2) * I * F * I * F.transpose() * p2);
+  const double den2 = p1.dot(CrossProductMatrix(e1) * I * F.transpose() * I * F * p1);
   if (den1 == 0.0 || den2 == 0.0) return std::nullopt;
-  const double f1_sq = -p2.dot(Skew(e2) * I * F * p1) * p1.dot(F.transpose() * p2) / den1;
-  const double f2_sq = -p1.dot(Skew(e1) * I * F.transpose() * p2) * p2.dot(F * p1) / den2;
+  const double f1_sq =
+      -p2.dot(CrossProductMatrix(e2) * I * F * p1) * p1.dot(F.transpose() * p2) / den1;
+  const double f2_sq =
+      -p1.dot(CrossProductMatrix(e1) * I * F.transpose() * p2) * p2.dot(F * p1) / den2;
   if (!(f1_sq > 0.0) || !(f2_sq > 0.0)) return std::nullopt;
   return std::make_pair(std::sqrt(f1_sq), std::sqrt(f2_sq));
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
+#include "varsfm/geometry/fundamental.h"
 
 namespace varsfm {
 namespace {
@@ -14,12 +15,6 @@ namespace {
 constexpr int kNumParams = 11;
 constexpr int kNumWithoutDistortion = 7;
 using ParamRow = Eigen::Matrix<double, 2, kNumParams>;
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 }  // namespace
 
@@ -70,7 +65,7 @@ std::optional<std::pair<double, double>> TwoViewLogFocalStdDev(const Reconstruct
       J.col(8 + 2 * k) = J_camera.col(Camera::kK2);
       if (k == 1) {
         // p = R X + t; a rotation exp([d]x) R moves p by -[R X]x d, a translation by B t_basis.
-        J.middleCols<3>(2) = J_translation * -Skew(pose.rotation * point.xyz);
+        J.middleCols<3>(2) = J_translation * -CrossProductMatrix(pose.rotation * point.xyz);
         J.middleCols<2>(5) = J_translation * t_basis;
       }
       A += J.transpose() * J;

@@ -258,10 +258,8 @@ PointCloud DensifyByPropagation(const Reconstruction& rec,
     Progress progress("undistort", views.size());
     tbb::parallel_for(size_t{0}, views.size(), [&](size_t i) {
       DenseView& v = views[i];
-      const Camera& camera = rec.CameraOf(v.image_id);
-      const double scale = std::min(
-          1.0, static_cast<double>(options.max_image_size) / std::max(camera.width, camera.height));
-      v.image = UndistortImage(load_image(v.image_id), camera, scale);
+      v.image = UndistortAtMostSize(load_image(v.image_id), rec.CameraOf(v.image_id),
+                                    options.max_image_size);
       v.cam_from_world = rec.image(v.image_id).cam_from_world;
       v.center = v.cam_from_world.Center();
       v.P = v.image.K * v.cam_from_world.ToMatrix();

@@ -163,11 +163,8 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   Timer timer;
   std::vector<LoadedView> views(ids.size());
   tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
-    const Camera& camera = rec.CameraOf(ids[i]);
-    const double scale = std::min(
-        1.0, static_cast<double>(options.max_image_size) / std::max(camera.width, camera.height));
     LoadedView& v = views[i];
-    v.image = UndistortImage(load_image(ids[i]), camera, scale);
+    v.image = UndistortAtMostSize(load_image(ids[i]), rec.CameraOf(ids[i]), options.max_image_size);
     v.image.gray.convertTo(v.patchmatch.gray, CV_32F, 1.0 / 255.0);
     v.patchmatch.K = v.image.K;
     v.patchmatch.cam_from_world = rec.image(ids[i]).cam_from_world;

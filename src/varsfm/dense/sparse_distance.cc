@@ -10,15 +10,10 @@
 #include <Eigen/Eigenvalues>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // k-nearest-neighbour search over a few thousand sparse points by a hashed uniform grid:
 // cubic shells of cells around the query are visited in growing Chebyshev radius until the

@@ -52,4 +52,11 @@ UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, doubl
   return out;
 }
 
+UndistortedView UndistortAtMostSize(const cv::Mat& image, const Camera& camera,
+                                    int max_image_size) {
+  const double scale =
+      std::min(1.0, static_cast<double>(max_image_size) / std::max(camera.width, camera.height));
+  return UndistortImage(image, camera, scale);
+}
+
 }  // namespace varsfm

@@ -20,4 +20,8 @@ struct UndistortedView {
 // (distortion included) projects its ray.
 UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, double scale);
 
+// UndistortImage downscaled so that its longer side is at most `max_image_size` pixels (never
+// upscaled): the images the dense methods match.
+UndistortedView UndistortAtMostSize(const cv::Mat& image, const Camera& camera, int max_image_size);
+
 }  // namespace varsfm

@@ -6,6 +6,7 @@
 // number of correspondences; the Hartley normalisation (normalization.h) keeps it well
 // conditioned.
 #include <cmath>
+#include <cstddef>
 
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -21,6 +22,19 @@ bool SmallestEigenvector(const Eigen::Matrix<double, N, N>& AtA, Eigen::Matrix<d
   if (eig.info() != Eigen::Success) return false;
   *x = eig.eigenvectors().col(0);
   return true;
+}
+
+// The null vector of the design matrix A whose rows `add_rows(i, add)` hands to `add`, one call
+// per row, for each correspondence i < count: A^T A accumulated row by row (the lower triangle),
+// then SmallestEigenvector. The linear solvers (F8, H4, DLT6) differ only in their rows.
+template <int N, typename AddRows>
+bool NullVectorOfRows(size_t count, const AddRows& add_rows, Eigen::Matrix<double, N, 1>* x) {
+  Eigen::Matrix<double, N, N> AtA = Eigen::Matrix<double, N, N>::Zero();
+  const auto add = [&AtA](const Eigen::Matrix<double, N, 1>& row) {
+    AtA.template selfadjointView<Eigen::Lower>().rankUpdate(row);
+  };
+  for (size_t i = 0; i < count; ++i) add_rows(i, add);
+  return SmallestEigenvector(AtA, x);
 }
 
 // The 3x3 matrix whose rows are h[0..2], h[3..5], h[6..8].

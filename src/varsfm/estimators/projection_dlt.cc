@@ -19,17 +19,16 @@ bool ProjectionDLT(const std::vector<Eigen::Vector2d>& points2D,
   NormalizePoints2D(points2D, &n2, &T);
   NormalizePoints3D(points3D, &n3, &U);
   // H&Z eq. 7.2: [X^T 0 -x X^T; 0 X^T -y X^T] p = 0, p = P row-major.
-  Eigen::Matrix<double, 12, 12> AtA = Eigen::Matrix<double, 12, 12>::Zero();
-  for (size_t i = 0; i < n2.size(); ++i) {
+  const auto rows = [&n2, &n3](size_t i, const auto& add) {
     const Eigen::Vector4d X = n3[i].homogeneous();
     Eigen::Matrix<double, 12, 1> a, b;
     a << X, Eigen::Vector4d::Zero(), -n2[i].x() * X;
     b << Eigen::Vector4d::Zero(), X, -n2[i].y() * X;
-    AtA.selfadjointView<Eigen::Lower>().rankUpdate(a);
-    AtA.selfadjointView<Eigen::Lower>().rankUpdate(b);
-  }
+    add(a);
+    add(b);
+  };
   Eigen::Matrix<double, 12, 1> p;
-  if (!SmallestEigenvector(AtA, &p)) return false;
+  if (!NullVectorOfRows<12>(n2.size(), rows, &p)) return false;
   const Matrix34d Pn = Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(p.data());
   // Undo the normalisations: T x ~ Pn U X, so P = T^-1 Pn U.
   Matrix34d result = T.inverse() * Pn * U;

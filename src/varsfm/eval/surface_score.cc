@@ -12,6 +12,7 @@
 
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
@@ -22,13 +23,6 @@ using Primitive = CGAL::AABB_triangle_primitive<Kernel, Triangles::const_iterato
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 Kernel::Point_3 ToPoint(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const auto middle = values.begin() + static_cast<ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 // Share of `distances` at most `tolerance`.
 double ShareWithin(const std::vector<double>& distances, double tolerance) {

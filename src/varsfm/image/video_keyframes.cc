@@ -14,6 +14,7 @@
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
@@ -46,12 +47,6 @@ double Sharpness(const cv::Mat& gray) {
   cv::Scalar mean, stddev;
   cv::meanStdDev(laplacian, mean, stddev);
   return stddev[0] * stddev[0];
-}
-
-double Median(std::vector<double> values) {
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
 }
 
 // Corners of the last keyframe and their motion into later frames.

@@ -10,10 +10,13 @@
 
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/fnv1a.h"
+#include "varsfm/util/little_endian.h"
 
 namespace varsfm {
 namespace {
 
+// The centres are read and written as one block of host floats: the file is little-endian.
 static_assert(std::endian::native == std::endian::little, "the file is little-endian");
 
 constexpr char kMagic[8] = {'V', 'S', 'F', 'M', 'V', 'O', 'C', '\0'};
@@ -21,24 +24,10 @@ constexpr size_t kHeaderBytes = sizeof(kMagic) + 4 * sizeof(uint32_t);
 constexpr size_t kNodeBytes = 2 * sizeof(uint32_t);
 constexpr size_t kCentreBytes = VocabularyTree::kDimension * sizeof(float);
 
-uint64_t Fnv1a(const char* data, size_t size) {
-  uint64_t hash = 0xcbf29ce484222325ull;
-  for (size_t i = 0; i < size; ++i) {
-    hash ^= static_cast<unsigned char>(data[i]);
-    hash *= 0x100000001b3ull;
-  }
-  return hash;
-}
-
-template <typename T>
-void Put(std::string& bytes, T value) {
-  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-
+// The value at `offset`, which moves past it.
 template <typename T>
 T Get(const std::string& bytes, size_t& offset) {
-  T value;
-  std::memcpy(&value, bytes.data() + offset, sizeof(T));
+  const T value = GetLittleEndian<T>(bytes.data() + offset);
   offset += sizeof(T);
   return value;
 }
@@ -47,18 +36,18 @@ T Get(const std::string& bytes, size_t& offset) {
 
 void WriteVocabularyTree(const VocabularyTree& tree, const std::filesystem::path& path) {
   std::string bytes(kMagic, sizeof(kMagic));
-  Put<uint32_t>(bytes, kVocabularyFileVersion);
-  Put<uint32_t>(bytes, VocabularyTree::kDimension);
-  Put<uint32_t>(bytes, static_cast<uint32_t>(tree.branching()));
-  Put<uint32_t>(bytes, static_cast<uint32_t>(tree.nodes().size()));
+  AppendLittleEndian<uint32_t>(&bytes, kVocabularyFileVersion);
+  AppendLittleEndian<uint32_t>(&bytes, VocabularyTree::kDimension);
+  AppendLittleEndian<uint32_t>(&bytes, static_cast<uint32_t>(tree.branching()));
+  AppendLittleEndian<uint32_t>(&bytes, static_cast<uint32_t>(tree.nodes().size()));
   for (const VocabularyTree::Node& node : tree.nodes()) {
-    Put<uint32_t>(bytes, node.first_child);
-    Put<uint32_t>(bytes, node.num_children);
+    AppendLittleEndian<uint32_t>(&bytes, node.first_child);
+    AppendLittleEndian<uint32_t>(&bytes, node.num_children);
   }
   const auto& centres = tree.centres();
   bytes.append(reinterpret_cast<const char*>(centres.data()),
                static_cast<size_t>(centres.size()) * sizeof(float));
-  Put<uint64_t>(bytes, Fnv1a(bytes.data(), bytes.size()));
+  AppendLittleEndian<uint64_t>(&bytes, Fnv1a(bytes.data(), bytes.size()));
   WriteFileAtomically(path, [&](std::ostream& out) {
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   });

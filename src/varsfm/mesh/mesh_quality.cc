@@ -7,16 +7,10 @@
 
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const auto middle = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
 
 double Percentile(std::vector<double> values, double fraction) {
   const auto at = values.begin() + static_cast<ptrdiff_t>(fraction * (values.size() - 1));

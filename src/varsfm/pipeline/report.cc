@@ -5,9 +5,9 @@
 
 namespace varsfm {
 
-ReportSummary RunReport(const ReportOptions& options) {
+ReportSummary RunReport(const ReportOptions& options, OptionsCheck check) {
   Timer timer;
-  const ReportSummary result = WriteReport(options);
+  const ReportSummary result = WriteReport(options, check);
   info("report: wrote {} ({:.1f} MB{}) in {:.2f} s", result.file.string(), result.bytes / 1e6,
        result.has_3d_view ? "" : ", no 3D view: three.js not found", timer.Seconds());
   return result;

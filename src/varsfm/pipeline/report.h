@@ -7,6 +7,6 @@ namespace varsfm {
 
 // Writes the report and logs where it is and its size. Throws varsfm::Error (one line) as
 // WriteReport does.
-ReportSummary RunReport(const ReportOptions& options);
+ReportSummary RunReport(const ReportOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

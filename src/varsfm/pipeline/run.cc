@@ -19,6 +19,7 @@ void RunOptions::Check() const {
   surface.Check();
   texture.Check();
   CheckHoldout(holdout);
+  report.data.Check();  // the report's output is this run's, set by RunAll
 }
 
 namespace {
@@ -158,7 +159,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   ReportOptions report = options.report;
   report.output = options.output;
   try {
-    result.report = RunReport(report).file;
+    result.report = RunReport(report, OptionsCheck::kDoneByCaller).file;
   } catch (const std::exception& e) {
     warn("run: no report: {}", e.what());
   }

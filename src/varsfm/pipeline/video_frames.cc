@@ -9,6 +9,7 @@
 
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/fnv1a.h"
 
 namespace varsfm {
 namespace {
@@ -18,15 +19,6 @@ namespace fs = std::filesystem;
 constexpr const char* kIdentityFile = "video.txt";
 constexpr std::streamoff kFingerprintBytes = 1 << 16;  // hashed at each end of the file
 
-// FNV-1a, 64 bits, continued over `data`.
-uint64_t Fnv1a(uint64_t hash, const char* data, std::streamsize size) {
-  for (std::streamsize i = 0; i < size; ++i) {
-    hash ^= static_cast<unsigned char>(data[i]);
-    hash *= 0x100000001b3ULL;
-  }
-  return hash;
-}
-
 // The video's size and a hash of its first and last 64 KiB: the same file gives the same text
 // wherever it lies, another video (even re-encoded from the same one) almost surely not.
 std::string Fingerprint(const fs::path& video) {
@@ -34,12 +26,12 @@ std::string Fingerprint(const fs::path& video) {
   if (!file) Fail("cannot read video {}", video.string());
   const std::streamoff size = file.tellg();
   std::array<char, kFingerprintBytes> buffer;
-  uint64_t hash = 0xcbf29ce484222325ULL;
+  uint64_t hash = kFnv1aOffsetBasis;
   for (const std::streamoff start :
        {std::streamoff{0}, std::max<std::streamoff>(0, size - kFingerprintBytes)}) {
     file.seekg(start);
     file.read(buffer.data(), kFingerprintBytes);
-    hash = Fnv1a(hash, buffer.data(), file.gcount());
+    hash = Fnv1a(buffer.data(), static_cast<size_t>(file.gcount()), hash);
     file.clear();
   }
   return fmt::format("{} bytes, fnv1a {:016x}", size, hash);

@@ -16,6 +16,7 @@
 #include "varsfm/image/jpeg_codec.h"
 #include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/little_endian.h"
 #include "varsfm/util/option_check.h"
 
 namespace varsfm {
@@ -30,9 +31,7 @@ constexpr uint32_t kChunkBin = 0x004E4942;
 constexpr int kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
 
 uint32_t ReadU32(const std::vector<uint8_t>& bytes, size_t at) {
-  uint32_t v;
-  std::memcpy(&v, bytes.data() + at, 4);
-  return v;
+  return GetLittleEndian<uint32_t>(reinterpret_cast<const char*>(bytes.data() + at));
 }
 
 // The JSON and binary chunks of a GLB file.
@@ -101,9 +100,10 @@ std::vector<uint32_t> ReadIndices(const Glb& glb, size_t index) {
   if (offset + count * width > size) Fail("model.glb: accessor {} overruns its view", index);
   std::vector<uint32_t> indices(count);
   for (size_t i = 0; i < count; ++i) {
-    uint32_t v = 0;
-    std::memcpy(&v, data + offset + i * width, width);  // little-endian, as glTF stores it
-    indices[i] = v;
+    const auto* p = reinterpret_cast<const char*>(data + offset + i * width);
+    indices[i] = width == 1   ? static_cast<uint8_t>(*p)
+                 : width == 2 ? GetLittleEndian<uint16_t>(p)
+                              : GetLittleEndian<uint32_t>(p);
   }
   return indices;
 }
@@ -138,10 +138,7 @@ class GlbBuilder {
     std::string text = gltf.dump();
     while (text.size() % 4) text += ' ';
     std::vector<uint8_t> out;
-    const auto put = [&out](uint32_t v) {
-      const auto* p = reinterpret_cast<const uint8_t*>(&v);
-      out.insert(out.end(), p, p + 4);
-    };
+    const auto put = [&out](uint32_t v) { AppendLittleEndian(&out, v); };
     put(kGlbMagic);
     put(2);
     put(static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin_.size()));

@@ -11,14 +11,11 @@ namespace varsfm {
 
 void ReportOptions::Check() const {
   if (output.empty()) FailOption("output", "the output folder of a run", "''");
-  CheckAtLeast("--max-points", data.max_view_points, 1);
-  CheckInRange("--thumbnail-width", data.thumbnail_width, 16, 1024);
-  CheckInRange("thumbnail_quality", data.thumbnail_quality, 1, 100);
-  data.model.Check();
+  data.Check();
 }
 
-ReportSummary WriteReport(const ReportOptions& options) {
-  options.Check();
+ReportSummary WriteReport(const ReportOptions& options, OptionsCheck check) {
+  if (check == OptionsCheck::kByStage) options.Check();
   const std::optional<ThreeJs> three = LoadThreeJs(options.three_js_dir);
   if (!three) warn("report: three.js not found (install libjs-three); the report has no 3D view");
   std::string html;

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "varsfm/report/report_data.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 
@@ -27,6 +28,7 @@ struct ReportSummary {
 // Writes OUT/report.html (through a temporary file renamed into place, so an existing report is
 // replaced only by a complete one). Throws varsfm::Error as CollectReportData does, or when the
 // file cannot be written.
-ReportSummary WriteReport(const ReportOptions& options);
+ReportSummary WriteReport(const ReportOptions& options,
+                          OptionsCheck check = OptionsCheck::kByStage);
 
 }  // namespace varsfm

@@ -9,6 +9,7 @@
 
 #include "varsfm/report/colormap.h"
 #include "varsfm/report/svg_chart.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
@@ -32,14 +33,6 @@ ChartFrame SmallImageFrame(int height, std::string title, std::string y_label) {
           .title = std::move(title),
           .x_label = "image",
           .y_label = std::move(y_label)};
-}
-
-// The value below which `fraction` of `values` lie (the largest for fraction 1).
-double Quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
 }
 
 void DrawIntrinsics(const ReportData& data, ReportCharts* charts) {

@@ -15,6 +15,7 @@
 #include "varsfm/scene/reconstruction.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/option_check.h"
 
 namespace varsfm {
 namespace {
@@ -197,6 +198,13 @@ fs::path FindSparseModel(const fs::path& output) {
       return dir;
   }
   Fail("{}: no sparse model (sparse/0 or sparse with cameras.bin or cameras.txt)", output.string());
+}
+
+void ReportDataOptions::Check() const {
+  CheckAtLeast("--max-points", max_view_points, 1);
+  CheckInRange("--thumbnail-width", thumbnail_width, 16, 1024);
+  CheckInRange("thumbnail_quality", thumbnail_quality, 1, 100);
+  model.Check();
 }
 
 ReportData CollectReportData(const fs::path& output, const ReportDataOptions& options) {

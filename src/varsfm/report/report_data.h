@@ -48,7 +48,7 @@ struct ReportData {
   size_t num_models = 1;             // models in OUT/sparse (sparse/0, sparse/1, ...)
   nlohmann::json summary = nlohmann::json::object();  // OUT/summary.json, {} when absent
   std::vector<ReportImage> images;                    // by image id: the order of capture
-  std::vector<WorkspacePairRow> pairs;  // the verified pairs with at least one inlier
+  std::vector<WorkspacePairRow> pairs;                // the verified pairs with at least one inlier
   size_t min_pair_inliers = 15;  // the mapper's default (MapOptions::min_pair_inliers)
   // The sparse model's statistics.
   size_t num_points3D = 0;
@@ -77,6 +77,8 @@ struct ReportDataOptions {
   std::filesystem::path image_dir;
   bool embed_model = true;  // read OUT/model.glb
   DisplayModelOptions model;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // The sparse model folder of OUT: OUT/sparse/0 when it holds a model, else OUT/sparse. Throws

@@ -7,6 +7,7 @@
 
 #include "varsfm/report/base64.h"
 #include "varsfm/report/report_charts.h"
+#include "varsfm/util/statistics.h"
 
 namespace varsfm {
 namespace {
@@ -17,16 +18,6 @@ nlohmann::json Array(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 // (the page's layout), for the initial framing.
 constexpr double kVerticalFovDeg = 50;
 constexpr double kViewAspect = 1.25;
-
-// The value below which `fraction` of `values` lie; 0 for none.
-double Quantile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  std::nth_element(values.begin(), values.begin() + k, values.end());
-  return values[k];
-}
-
-double Median(std::vector<double> values) { return Quantile(std::move(values), 0.5); }
 
 // The scene's middle: the per-axis median of the points (robust to stray points), or of the
 // camera centres when there are no points.

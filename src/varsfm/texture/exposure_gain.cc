@@ -5,6 +5,8 @@
 
 #include <Eigen/Dense>
 
+#include "varsfm/util/option_check.h"
+
 namespace varsfm {
 
 std::vector<Eigen::Vector3f> EstimateExposureGains(const FaceObservations& obs,
@@ -60,6 +62,16 @@ std::vector<Eigen::Vector3f> EstimateExposureGains(const FaceObservations& obs,
       gains[v][channel] = static_cast<float>(std::exp(std::clamp(x[v], -limit, limit)));
   }
   return gains;
+}
+
+void ExposureGainOptions::Check() const {
+  // A pair's estimate is a median over its shared faces: it needs at least one.
+  CheckAtLeast("exposure.min_shared_faces", min_shared_faces, 1);
+  // A level of 0 has no logarithm.
+  CheckInHalfOpenRange("exposure.min_level", min_level, 0.0f, 255.0f);
+  CheckInRange("exposure.max_level", max_level, min_level, 255.0f);
+  // Gains lie in [1 / max_gain, max_gain]: below 1 the interval is empty.
+  CheckAtLeast("exposure.max_gain", max_gain, 1.0);
 }
 
 }  // namespace varsfm

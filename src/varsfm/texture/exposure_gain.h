@@ -25,6 +25,8 @@ struct ExposureGainOptions {
   float min_level = 8, max_level = 245;
   // Gains are clamped to [1 / max_gain, max_gain].
   double max_gain = 4.0;
+
+  void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
 
 // One BGR gain per view; all 1 when disabled or nothing overlaps.

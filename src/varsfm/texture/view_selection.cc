@@ -54,6 +54,7 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
 
 void ViewSelectionOptions::Check() const {
   observation.Check();
+  exposure.Check();
   consistency.Check();
   CheckNonNegative("--smoothness", smoothness);
   CheckNonNegative("max_expansion_cycles", max_expansion_cycles);

@@ -28,6 +28,15 @@ void PutLittleEndian(std::ostream& out, T value) {
   out.write(reinterpret_cast<const char*>(&value), sizeof(T));
 }
 
+// Appends `value` as sizeof(T) little-endian bytes to a byte container (std::string,
+// std::vector<uint8_t>) that is assembled before it is written.
+template <typename T, typename Bytes>
+void AppendLittleEndian(Bytes* bytes, T value) {
+  value = SwapLittleEndian(value);
+  const auto* p = reinterpret_cast<const char*>(&value);
+  bytes->insert(bytes->end(), p, p + sizeof(T));
+}
+
 // The value stored as sizeof(T) little-endian bytes at `bytes`.
 template <typename T>
 T GetLittleEndian(const char* bytes) {
