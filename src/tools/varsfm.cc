@@ -398,6 +398,8 @@ void AddTextureCommand(CLI::App* app) {
   cmd->add_option("--output", options->output, "output folder (textured/, model.glb)")->required();
   AddWithDefault(cmd, "--smoothness", t.selection.smoothness,
                  "Potts weight grouping faces into charts (0: best image per face)");
+  AddWithDefault(cmd, "--consensus-weight", t.selection.consensus_weight,
+                 "data term: weight of a view's colour distance from the other views' consensus");
   AddWithDefault(cmd, "--depth-tolerance", t.selection.observation.depth_tolerance,
                  "visibility: a face is occluded when the mesh is nearer by this fraction");
   AddWithDefault(cmd, "--min-cos", t.selection.observation.min_cos_angle,

@@ -140,6 +140,7 @@ TEST(OptionsCheck, Texture) {
   ExpectEachRejected<TextureOptions>(
       {},
       {{"--smoothness", [](auto& o) { o.texture.selection.smoothness = kNan; }},
+       {"--consensus-weight", [](auto& o) { o.texture.selection.consensus_weight = -1; }},
        {"--depth-tolerance", [](auto& o) { o.texture.selection.observation.depth_tolerance = 2; }},
        {"--min-cos", [](auto& o) { o.texture.selection.observation.min_cos_angle = -0.1; }},
        {"--padding", [](auto& o) { o.texture.padding = 65; }},

@@ -175,6 +175,7 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   obs.num_views = views.size();
   obs.quality.assign(obs.num_faces * obs.num_views, 0.0f);
   obs.colour.assign(obs.num_faces * obs.num_views, Eigen::Vector3f::Zero());
+  obs.deviation.assign(obs.num_faces * obs.num_views, 0.0f);
   obs.coverage.assign(obs.num_views, 0.0);
   obs.small_photos.resize(obs.num_views);
   obs.small_scale.assign(obs.num_views, 1.0);

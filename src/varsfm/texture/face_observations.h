@@ -51,8 +51,11 @@ struct FaceObservations {
   // View-major (index v * num_faces + f). quality 0: the view is not a candidate for the face.
   std::vector<float> quality;
   std::vector<Eigen::Vector3f> colour;  // BGR, 0-255, the mean over the face's projection
-  std::vector<double> coverage;         // per view: the fraction of its pixels the mesh covers
-  std::vector<cv::Mat> small_photos;    // per view: CV_32FC3 BGR, small_scale x the photo
+  // The colour's distance from the consensus of the face's views (photo_consistency.h), after
+  // the exposure gains, in grey levels; 0 where no consensus was found (or not computed).
+  std::vector<float> deviation;
+  std::vector<double> coverage;       // per view: the fraction of its pixels the mesh covers
+  std::vector<cv::Mat> small_photos;  // per view: CV_32FC3 BGR, small_scale x the photo
   std::vector<double> small_scale;
 
   float Quality(size_t view, size_t face) const { return quality[view * num_faces + face]; }

@@ -71,6 +71,8 @@ size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
       size_t inliers = 0;
       for (const Eigen::Vector3f& c : colours) inliers += (c - mode).squaredNorm() <= reject_sq;
       if (2 * inliers <= colours.size()) continue;
+      for (size_t k = 0; k < views.size(); ++k)
+        obs->deviation[views[k] * obs->num_faces + f] = (colours[k] - mode).norm();
       for (size_t k = 0; k < views.size(); ++k) {
         if ((colours[k] - mode).squaredNorm() > reject_sq) {
           obs->quality[views[k] * obs->num_faces + f] = 0;

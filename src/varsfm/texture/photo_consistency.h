@@ -28,9 +28,11 @@ struct PhotoConsistencyOptions {
   void Check() const;
 };
 
-// Sets the quality of rejected (view, face) observations to 0, and of the same view at the
-// rejected faces' edge neighbours that another view sees; returns their number. Colours are
-// compared after multiplying by each view's gain. `neighbours`: face_adjacency.h.
+// Sets every view's distance from the consensus where a strict majority holds it
+// (FaceObservations::deviation, for view selection's consensus term), and the quality of rejected
+// (view, face) observations to 0, and of the same view at the rejected faces' edge neighbours that
+// another view sees; returns their number. Colours are compared after multiplying by each view's
+// gain. `neighbours`: face_adjacency.h.
 size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
                                const std::vector<std::array<int, 3>>& neighbours,
                                const PhotoConsistencyOptions& options,

@@ -1,5 +1,8 @@
 #include "varsfm/texture/view_selection.h"
 
+#include <algorithm>
+#include <limits>
+
 #include "varsfm/texture/alpha_expansion.h"
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/util/option_check.h"
@@ -18,25 +21,34 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   selection.num_rejected_observations =
       RejectInconsistentViews(selection.gains, neighbours, options.consistency, &obs);
 
-  // Data term: 1 - quality / the face's best quality, for every view that may texture it.
+  // Data term: 1 - quality / the face's best quality, plus the consensus term, for every view
+  // that may texture it.
   PottsProblem problem;
   problem.num_labels = static_cast<int>(views.size());
   problem.potts = options.smoothness;
   problem.neighbours = neighbours;
   problem.offsets.reserve(faces.size() + 1);
+  const double deviation_scale =
+      1.0 / (options.consistency.reject_distance * options.consistency.bandwidth);
   std::vector<int> best_view(faces.size(), -1);
   for (size_t f = 0; f < faces.size(); ++f) {
     float best = 0;
-    for (size_t v = 0; v < views.size(); ++v) {
-      if (obs.Quality(v, f) > best) {
-        best = obs.Quality(v, f);
-        best_view[f] = static_cast<int>(v);
-      }
-    }
+    for (size_t v = 0; v < views.size(); ++v) best = std::max(best, obs.Quality(v, f));
+    float lowest = std::numeric_limits<float>::max(), lowest_quality = 0;
     for (size_t v = 0; v < views.size(); ++v) {
       if (obs.Quality(v, f) <= 0) continue;
+      const double deviation =
+          std::min(1.0, obs.deviation[v * obs.num_faces + f] * deviation_scale);
+      const float cost =
+          static_cast<float>(1.0 - obs.Quality(v, f) / best + options.consensus_weight * deviation);
       problem.candidate_labels.push_back(static_cast<int>(v));
-      problem.candidate_costs.push_back(1.0f - obs.Quality(v, f) / best);
+      problem.candidate_costs.push_back(cost);
+      // Ties go to the higher quality (the face's best view when the consensus term is off).
+      if (cost < lowest || (cost == lowest && obs.Quality(v, f) > lowest_quality)) {
+        lowest = cost;
+        lowest_quality = obs.Quality(v, f);
+        best_view[f] = static_cast<int>(v);
+      }
     }
     problem.offsets.push_back(problem.candidate_labels.size());
     if (best_view[f] >= 0) ++selection.num_visible_faces;
@@ -57,6 +69,7 @@ void ViewSelectionOptions::Check() const {
   exposure.Check();
   consistency.Check();
   CheckNonNegative("--smoothness", smoothness);
+  CheckNonNegative("--consensus-weight", consensus_weight);
   CheckNonNegative("max_expansion_cycles", max_expansion_cycles);
 }
 

@@ -4,9 +4,10 @@
 // color!", ECCV 2014): a data term per face and view from the view's quality of the face
 // (face_observations.h: unoccluded, well inside the image, gradient magnitude integrated over
 // its projection), views that disagree with the others' colour removed first
-// (photo_consistency.h, after the exposure gains of exposure_gain.h), and a Potts smoothness
-// term over edge-adjacent faces so that faces group into charts of one image and few seams cross
-// the model; minimised by alpha-expansion (alpha_expansion.h).
+// (photo_consistency.h, after the exposure gains of exposure_gain.h) and the others' distance
+// from the consensus colour added to the data term (a soft form of that check), and a Potts
+// smoothness term over edge-adjacent faces so that faces group into charts of one image and few
+// seams cross the model; minimised by alpha-expansion (alpha_expansion.h).
 #include <functional>
 #include <vector>
 
@@ -26,6 +27,14 @@ struct ViewSelectionOptions {
   // Potts weight per pair of adjacent faces with different images, in units of the data term
   // (1 - quality / best quality of the face, so 0 for a face's best view).
   double smoothness = 1.0;
+  // Weight of the consensus term added to the data term: a view's distance from the consensus
+  // colour of the face (photo_consistency.h, after the exposure gains), over the rejection
+  // distance and capped at 1. Photos with a look of their own (haze or flare from the sun, a
+  // sheen on a slate roof, shade), which the exposure gains cannot undo and the rejection leaves
+  // in, then texture fewer faces, so the model looks like most photos and renders new views
+  // better (Waechter et al.'s rejection made soft; weights 0 / 2 / 4 measured in
+  // bench/results/2026-12-03-texture-consensus.md).
+  double consensus_weight = 2.0;
   int max_expansion_cycles = 4;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
