@@ -172,6 +172,16 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                  "global BAs stop when an iteration lowers the cost by less than this fraction");
   AddWithDefault(cmd, "--growth-ba-tolerance", a.growth_ba_function_tolerance,
                  "the same for the global BAs as the model grows (--global-ba-growth)");
+  AddWithDefault(cmd, "--growth-ba-max-track", a.growth_ba_max_point_observations,
+                 "observations per point in the global BAs as the model grows (0: all)");
+  AddWithDefault(cmd, "--growth-ba-subset-images", a.growth_ba_subset_min_images,
+                 "registered images from which --growth-ba-max-track applies");
+  AddWithDefault(cmd, "--global-ba-iterative-images", a.global_ba_iterative_min_images,
+                 "global BAs of this many images solve by conjugate gradients (0: never)");
+  AddWithDefault(cmd, "--global-ba-cg-tolerance", a.global_ba_cg_tolerance,
+                 "their relative residual at which conjugate gradients stop");
+  AddWithDefault(cmd, "--global-ba-cg-iterations", a.global_ba_cg_max_iterations,
+                 "their most conjugate-gradient iterations per step");
   AddChoice(cmd, "--global-ba-trust-region", &a.global_ba_trust_region,
             ChoicesOf(varsfm::kTrustRegionNames),
             "global BAs' steps, Powell's dogleg or Levenberg-Marquardt");

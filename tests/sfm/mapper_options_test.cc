@@ -86,6 +86,11 @@ TEST(MapperOptions, ScheduleRefusesBadValues) {
         [](O& o) {
           o.global_ba_trust_region = static_cast<BundleAdjustmentOptions::TrustRegion>(9);
         }},
+       {"--growth-ba-max-track", [](O& o) { o.growth_ba_max_point_observations = 1; }},
+       {"--growth-ba-subset-images", [](O& o) { o.growth_ba_subset_min_images = -1; }},
+       {"--global-ba-iterative-images", [](O& o) { o.global_ba_iterative_min_images = -1; }},
+       {"--global-ba-cg-tolerance", [](O& o) { o.global_ba_cg_tolerance = 0; }},
+       {"--global-ba-cg-iterations", [](O& o) { o.global_ba_cg_max_iterations = 0; }},
        {"global_ba_max_iterations", [](O& o) { o.global_ba_max_iterations = 0; }},
        {"--degenerate-init-global-ba", [](O& o) { o.degenerate_init_global_ba_images = -1; }},
        {"final_global_ba_max_iterations", [](O& o) { o.final_global_ba_max_iterations = -5; }},

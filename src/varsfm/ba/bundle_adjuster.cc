@@ -123,7 +123,20 @@ std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& confi
       if (config.variable_pose_images.count(el.image_id) ||
           (!constant && config.constant_pose_images.count(el.image_id)))
         observations.push_back({el.image_id, el.point2D_idx, pid});
-    if (!constant && observations.size() - begin < 2) observations.resize(begin);
+    const size_t count = observations.size() - begin;
+    if (!constant && count < 2) observations.resize(begin);
+    const size_t cap = config.max_point_observations;
+    if (!constant && cap >= 2 && count > cap) {
+      // Every (count / cap)-th observation from an offset that turns with the point's id
+      // (offsets i * count / cap + pid, mod count, are distinct): the same choice for every
+      // point of one image sequence would leave the images between the chosen positions with
+      // the short tracks only. Kept in track order.
+      std::vector<size_t> keep(cap);
+      for (size_t i = 0; i < cap; ++i) keep[i] = (i * count / cap + pid) % count;
+      std::sort(keep.begin(), keep.end());
+      for (size_t i = 0; i < cap; ++i) observations[begin + i] = observations[begin + keep[i]];
+      observations.resize(begin + cap);
+    }
   }
   return observations;
 }
@@ -492,6 +505,9 @@ bool SolveNatively(const AssembledProblem& p, const ForEachResidual& for_each_re
   native.gradient_tolerance = p.options.gradient_tolerance;
   native.parameter_tolerance = p.options.parameter_tolerance;
   native.progress_to_stdout = p.options.verbose;
+  native.iterative_min_blocks = p.options.iterative_min_images;
+  native.iterative_tolerance = p.options.iterative_tolerance;
+  native.iterative_max_iterations = p.options.iterative_max_iterations;
   if (p.options.trust_region == BundleAdjustmentOptions::TrustRegion::kDogleg)
     native.trust_region = SchurSolverOptions::TrustRegion::kDogleg;
   native.num_threads = p.options.num_threads > 0
@@ -515,10 +531,13 @@ bool SolveNatively(const AssembledProblem& p, const ForEachResidual& for_each_re
       "{:.6e}; s: setup {:.4f}, "
       "linearise {:.4f}, residuals {:.4f}, solve {:.4f} (factorise {:.4f}); total {:.4f})",
       native.trust_region == SchurSolverOptions::TrustRegion::kDogleg ? "dogleg" : "LM",
-      summary.sparse ? "sparse" : "dense", summary.reduced_columns, summary.reduced_fill,
-      summary.message, summary.successful_steps, summary.unsuccessful_steps, summary.initial_cost,
-      summary.final_cost, summary.seconds_setup, summary.seconds_linearise,
-      summary.seconds_residuals, summary.seconds_solve, summary.seconds_factorise, timer.Seconds());
+      summary.iterative ? fmt::format("conjugate gradients, {} iterations", summary.cg_iterations)
+      : summary.sparse  ? "sparse"
+                        : "dense",
+      summary.reduced_columns, summary.reduced_fill, summary.message, summary.successful_steps,
+      summary.unsuccessful_steps, summary.initial_cost, summary.final_cost, summary.seconds_setup,
+      summary.seconds_linearise, summary.seconds_residuals, summary.seconds_solve,
+      summary.seconds_factorise, timer.Seconds());
   return rms_from_solver;
 }
 

@@ -99,6 +99,12 @@ struct BundleAdjustmentOptions {
   // mapper's global adjustments use the dogleg (incremental_mapper.h has the measurements).
   enum class TrustRegion { kLevenbergMarquardt, kDogleg };
   TrustRegion trust_region = TrustRegion::kLevenbergMarquardt;
+  // > 0: the native solver solves a sparse reduced system of at least this many images
+  // (reduced-system blocks) by preconditioned conjugate gradients instead of a factorisation
+  // (SchurSolverOptions::iterative_min_blocks).
+  int iterative_min_images = 0;
+  double iterative_tolerance = 1e-6;  // SchurSolverOptions::iterative_tolerance
+  int iterative_max_iterations = 500;
   IntrinsicsOptions intrinsics;
   bool verbose = false;  // Ceres progress to stdout
 };
@@ -127,6 +133,14 @@ struct BundleAdjustmentConfig {
   std::set<image_t> constant_pose_images;
   std::set<camera_t> constant_cameras;
   std::set<point3D_t> constant_points;
+  // > 0: a variable point with more residuals than this enters with this many of them only,
+  // spread evenly over its track from an offset that varies with the point. On a set that
+  // densifies, the Schur elimination costs one block product per pair of a point's observations
+  // (sum of squared track lengths) and the reduced system has a block per image pair sharing a
+  // point; a subset of each long track keeps every image constrained by its short tracks and part
+  // of its long ones. For the adjustments while the model grows, not the final one
+  // (BundleAdjustmentScheduleOptions::growth_ba_max_point_observations).
+  size_t max_point_observations = 0;
 
   // Every registered image with a variable pose; the gauge is fixed by RunBundleAdjustment.
   static BundleAdjustmentConfig Global(const Reconstruction& reconstruction);

@@ -115,7 +115,8 @@ void Dogleg(const SchurSolverOptions& options, SchurSystem* system, double cost,
     const DoglegPoint point = PointAtRadius(t, radius);
     const double a = point.a, b = point.b;
     // m(a p + b u) = a g.p + b g.u + (a^2 p'Hp + 2 a b u'Hp + b^2 u'Hu) / 2.
-    const double pHp = -t.g_p - t.mu * t.p_D_p, uHp = -t.g_u - t.mu * t.g_p;
+    const double pHp = -t.g_p - t.mu * t.p_D_p + t.p_rho;
+    const double uHp = -t.g_u - t.mu * t.g_p + t.u_rho;
     const double model_decrease =
         -(a * t.g_p + b * t.g_u + 0.5 * (a * a * pHp + 2.0 * a * b * uHp + b * b * t.u_H_u));
     const double step_scaled =

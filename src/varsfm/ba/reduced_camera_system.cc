@@ -64,7 +64,10 @@ void SchurSystem::BuildReducedStructure() {
       factorization_ == SchurSolverOptions::Factorization::kSparse ||
       (factorization_ == SchurSolverOptions::Factorization::kAuto &&
        (num_columns_ > 1500 || (num_columns_ > 300 && static_cast<double>(offset) < 0.25 * upper)));
-  if (sparse_) BuildSparsePattern();
+  // Beyond iterative_min_blocks_ blocks the system is solved by conjugate gradients
+  // (reduced_camera_pcg.cc), which needs no pattern.
+  iterative_ = sparse_ && iterative_min_blocks_ > 0 && num_column_blocks_ >= iterative_min_blocks_;
+  if (sparse_ && !iterative_) BuildSparsePattern();
 }
 
 // The sparse matrix's pattern once (upper triangle, column-major); each block column is a
@@ -117,7 +120,10 @@ bool SchurSystem::SolveReducedSystem() {
   const Timer factorise;
   const Eigen::VectorXd scaled_rhs = scale.asDiagonal() * rhs_;
   Eigen::VectorXd y;
-  if (sparse_) {
+  if (iterative_) {
+    if (!SolveScaledReducedIteratively(scale, scaled_rhs, &y)) return false;
+    reduced_residual_ = reduced_residual_.cwiseQuotient(scale);  // back to S delta_c - rhs
+  } else if (sparse_) {
     FillSparse(scale);
     if (!sparse_llt_.Factorize(sparse_s_)) return false;
     y = sparse_llt_.Solve(scaled_rhs);

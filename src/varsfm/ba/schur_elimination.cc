@@ -82,6 +82,9 @@ bool SchurSystem::SolveStep(double mu, double* model_decrease, double* step_norm
     norm2 += delta_p_[p].squaredNorm();
   }
   *model_decrease = -0.5 * g_delta + 0.5 * mu * dDd;
+  // An inexact solve leaves rho_c = S delta_c - rhs: the model decrease -g.delta -
+  // 1/2 delta^T H delta is then the above minus 1/2 delta_c . rho_c.
+  if (iterative_) *model_decrease -= 0.5 * delta_c_.dot(reduced_residual_);
   *step_norm = std::sqrt(norm2);
   step_g_delta_ = g_delta;
   step_dDd_ = dDd;

@@ -17,7 +17,7 @@ SchurSolverSummary SolveWithSchurComplement(const SchurSolverOptions& options,
                                             const LeastSquaresProblem& problem) {
   SchurSolverSummary summary;
   Timer timer;
-  SchurSystem system(eliminate, options.factorization, options.num_threads, problem);
+  SchurSystem system(eliminate, options, problem);
   summary.seconds_setup = timer.Seconds();
   if (!system.ok()) {
     summary.message = "a residual block uses a parameter block the problem does not have";
@@ -39,6 +39,8 @@ SchurSolverSummary SolveWithSchurComplement(const SchurSolverOptions& options,
   else
     trust_region::LevenbergMarquardt(options, &system, cost, &summary);
   summary.seconds_factorise = system.seconds_factorise();
+  summary.iterative = system.iterative();
+  summary.cg_iterations = system.cg_iterations();
   return summary;
 }
 

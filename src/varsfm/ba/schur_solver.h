@@ -47,6 +47,13 @@ struct SchurSolverOptions {
   // kAuto: sparse beyond 1500 columns, or beyond 300 when its blocks fill less than a quarter.
   enum class Factorization { kAuto, kDense, kSparse };
   Factorization factorization = Factorization::kAuto;
+  // > 0: a sparse reduced system of at least this many blocks (images) is solved by
+  // preconditioned conjugate gradients (reduced_camera_pcg.cc) to a relative residual of
+  // iterative_tolerance, at most iterative_max_iterations of them; the trust region's model
+  // takes the remaining residual into account.
+  int iterative_min_blocks = 0;
+  double iterative_tolerance = 1e-6;
+  int iterative_max_iterations = 500;
   // Threads (<= 1: the calling thread only). The work is cut into a fixed number of parts and
   // summed in part order, so the result is the same bit for bit with any number of threads.
   int num_threads = 1;
@@ -77,6 +84,9 @@ struct SchurSolverSummary {
   double seconds_residuals = 0.0;
   double seconds_solve = 0.0;
   double seconds_factorise = 0.0;  // of which the reduced system's Cholesky factorisations
+                                   // (or conjugate-gradient solves)
+  bool iterative = false;          // the reduced system was solved by conjugate gradients
+  int cg_iterations = 0;           // their iterations, all steps together
 };
 
 // Solves `problem` in place (its parameters change). `eliminate`: the parameter blocks removed by

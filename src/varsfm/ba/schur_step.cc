@@ -58,6 +58,10 @@ SchurSystem::DoglegTerms SchurSystem::KeepGaussNewtonStep(double mu) {
     for (int i = 0; i < ta; ++i) u_c_[col + i] = g_c_[col + i] / ClampDiagonal(d[i * ta + i]);
   }
   t.g_u = g_c_.dot(u_c_);
+  if (iterative_) {
+    t.p_rho = delta_c_.dot(reduced_residual_);
+    t.u_rho = u_c_.dot(reduced_residual_);
+  }
   u_p_.resize(num_points_);
   for (int p = 0; p < num_points_; ++p) {
     for (int i = 0; i < 3; ++i) u_p_[p][i] = g_p_[p][i] / ClampDiagonal(v_[p](i, i));

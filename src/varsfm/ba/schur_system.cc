@@ -11,10 +11,14 @@
 
 namespace varsfm {
 
-SchurSystem::SchurSystem(const std::vector<double*>& eliminate,
-                         SchurSolverOptions::Factorization factorization, int num_threads,
+SchurSystem::SchurSystem(const std::vector<double*>& eliminate, const SchurSolverOptions& options,
                          const LeastSquaresProblem& problem)
-    : values_(problem.parameters()), factorization_(factorization), runner_(num_threads) {
+    : values_(problem.parameters()),
+      factorization_(options.factorization),
+      iterative_min_blocks_(options.iterative_min_blocks),
+      iterative_tolerance_(options.iterative_tolerance),
+      iterative_max_iterations_(options.iterative_max_iterations),
+      runner_(options.num_threads) {
   residuals_.resize(problem.residual_blocks().size());
   for (size_t i = 0; i < residuals_.size(); ++i) {
     const LeastSquaresProblem::ResidualBlock& block = problem.residual_blocks()[i];

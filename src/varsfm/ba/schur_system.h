@@ -47,8 +47,8 @@ namespace varsfm {
 class SchurSystem {
  public:
   // Fails (ok() false) when a residual uses a block that was not added to the problem.
-  SchurSystem(const std::vector<double*>& eliminate,
-              SchurSolverOptions::Factorization factorization, int num_threads,
+  // The factorisation, threads and iterative solve's settings come from `options`.
+  SchurSystem(const std::vector<double*>& eliminate, const SchurSolverOptions& options,
               const LeastSquaresProblem& problem);
 
   bool ok() const { return ok_; }
@@ -58,6 +58,8 @@ class SchurSystem {
   // sum |r|^2 (no loss) at the parameters of the last Evaluate.
   double squared_norm() const { return squared_norm_; }
   bool sparse() const { return sparse_; }
+  bool iterative() const { return iterative_; }
+  int cg_iterations() const { return cg_iterations_; }
   double fill() const { return fill_; }
 
   // The cost 1/2 sum rho(|r|^2) at the current parameters, and with `linearise` the normal
@@ -84,6 +86,10 @@ class SchurSystem {
     double p_D_p = 0.0;  // p^T D p
     double g_u = 0.0;    // g . u = |u|_D^2
     double u_H_u = 0.0;
+    // After an inexact (iterative) solve, rho = (H + mu D) p + g is not zero: p^T H p and
+    // u^T H p gain p . rho and u . rho (zero after a Cholesky solve).
+    double p_rho = 0.0;
+    double u_rho = 0.0;
   };
 
   // Keeps the last step as the Gauss-Newton step p (solved with damping mu) and computes u.
@@ -201,6 +207,11 @@ class SchurSystem {
   bool SolveReducedSystem();
   void FillSparse(const Eigen::VectorXd& scale);
   void FillDense(const Eigen::VectorXd& scale, Eigen::MatrixXd* s) const;
+  // Conjugate gradients (reduced_camera_pcg.cc).
+  void MultiplyScaledReduced(const Eigen::VectorXd& scale, const Eigen::VectorXd& x,
+                             Eigen::VectorXd* y) const;
+  bool SolveScaledReducedIteratively(const Eigen::VectorXd& scale, const Eigen::VectorXd& b,
+                                     Eigen::VectorXd* y);
 
   std::vector<Block> blocks_;
   std::vector<Residual> residuals_;
@@ -228,6 +239,12 @@ class SchurSystem {
   SchurSolverOptions::Factorization factorization_;
   bool sparse_ = false;
   double fill_ = 0.0;
+  int iterative_min_blocks_ = 0;
+  double iterative_tolerance_ = 0.0;
+  int iterative_max_iterations_ = 0;
+  bool iterative_ = false;
+  int cg_iterations_ = 0;
+  Eigen::VectorXd reduced_residual_;      // S delta_c - rhs after an iterative solve
   Eigen::SparseMatrix<double> sparse_s_;  // upper triangle, pattern fixed at setup
   std::vector<int> pair_value_begin_;     // per block: its columns' entries in value_starts_
   std::vector<int> value_starts_;         // per block column: first index in sparse_s_'s values

@@ -21,6 +21,13 @@ void BundleAdjustmentScheduleOptions::Check() const {
       global_ba_trust_region != BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt)
     FailOption("--global-ba-trust-region", "dogleg or lm",
                static_cast<int>(global_ba_trust_region));
+  // One observation does not fix a point: 0 (all) or at least 2.
+  if (growth_ba_max_point_observations != 0 && growth_ba_max_point_observations < 2)
+    FailOption("--growth-ba-max-track", "0 (all) or at least 2", growth_ba_max_point_observations);
+  CheckNonNegative("--growth-ba-subset-images", growth_ba_subset_min_images);
+  CheckNonNegative("--global-ba-iterative-images", global_ba_iterative_min_images);
+  CheckPositive("--global-ba-cg-tolerance", global_ba_cg_tolerance);
+  CheckAtLeast("--global-ba-cg-iterations", global_ba_cg_max_iterations, 1);
   CheckAtLeast("global_ba_max_iterations", global_ba_max_iterations, 1);
   CheckNonNegative("--degenerate-init-global-ba", degenerate_init_global_ba_images);
   CheckAtLeast("final_global_ba_max_iterations", final_global_ba_max_iterations, 1);

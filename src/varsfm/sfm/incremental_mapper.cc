@@ -136,7 +136,8 @@ void IncrementalMapper::RegisterAll(Reconstruction* rec, MapperSummary* summary)
         case ScheduledAdjustment::kGrowth:
           GlobalBundleAdjustment(rec, summary, /*retriangulate=*/true,
                                  schedule_options.global_ba_max_iterations,
-                                 schedule_options.growth_ba_function_tolerance);
+                                 schedule_options.growth_ba_function_tolerance,
+                                 schedule_options.GrowthPointObservations(n));
           break;
         case ScheduledAdjustment::kLocal:
           LocalBundleAdjustment(rec, summary);
@@ -428,7 +429,8 @@ void IncrementalMapper::LocalBundleAdjustment(Reconstruction* rec, MapperSummary
 
 void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary,
                                                bool retriangulate, int max_iterations,
-                                               double function_tolerance) {
+                                               double function_tolerance,
+                                               size_t max_point_observations) {
   Timer timer;
   const BundleAdjustmentScheduleOptions& schedule = options_.adjustment;
   BundleAdjustmentOptions ba;
@@ -438,9 +440,14 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   ba.max_iterations = max_iterations;
   ba.function_tolerance = function_tolerance;
   ba.trust_region = schedule.global_ba_trust_region;
+  ba.iterative_min_images = schedule.global_ba_iterative_min_images;
+  ba.iterative_tolerance = schedule.global_ba_cg_tolerance;
+  ba.iterative_max_iterations = schedule.global_ba_cg_max_iterations;
   // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
   ba.verbose = spdlog::should_log(spdlog::level::trace);
-  const auto ba_summary = RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec);
+  BundleAdjustmentConfig config = BundleAdjustmentConfig::Global(*rec);
+  config.max_point_observations = max_point_observations;
+  const auto ba_summary = RunBundleAdjustment(ba, config, rec);
   debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
         ba_summary.initial_rms_px, ba_summary.final_rms_px);
@@ -460,8 +467,9 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
     debug("re-triangulation: {} new points, {} in all", added, rec->points3D().size());
     // Another adjustment only when re-triangulation changed the model noticeably.
     if (added > schedule.readjust_min_new_points_fraction * rec->NumObservations()) {
-      summary->num_global_ba_iterations +=
-          RunBundleAdjustment(ba, BundleAdjustmentConfig::Global(*rec), rec).iterations;
+      config = BundleAdjustmentConfig::Global(*rec);
+      config.max_point_observations = max_point_observations;
+      summary->num_global_ba_iterations += RunBundleAdjustment(ba, config, rec).iterations;
       rec->FilterObservationsWithLargeError(schedule.filter_max_error_px);
       rec->FilterPointsWithSmallTriangulationAngle(schedule.filter_min_triangulation_angle_deg);
     }

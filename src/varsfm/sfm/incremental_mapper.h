@@ -149,8 +149,11 @@ class IncrementalMapper {
   // Adds the matching-graph neighbours of an image just registered to frontier_.
   void ExtendFrontier(image_t registered);
   void LocalBundleAdjustment(Reconstruction* rec, MapperSummary* summary);
+  // `max_point_observations` > 0: each point enters with at most that many of its observations
+  // (BundleAdjustmentConfig::max_point_observations; the adjustments while the model grows).
   void GlobalBundleAdjustment(Reconstruction* rec, MapperSummary* summary, bool retriangulate,
-                              int max_iterations, double function_tolerance);
+                              int max_iterations, double function_tolerance,
+                              size_t max_point_observations = 0);
 
   const CorrespondenceGraph& graph_;
   std::vector<std::pair<image_t, image_t>> excluded_initial_pairs_;
