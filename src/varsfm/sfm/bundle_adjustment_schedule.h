@@ -43,17 +43,18 @@ struct BundleAdjustmentScheduleOptions {
   // at most this many of its observations, spread over its track (0: all;
   // BundleAdjustmentConfig::max_point_observations). On a set whose images densify, a point's
   // track grows with the images and the exact adjustment with the sum of the squared track
-  // lengths. The final adjustment stays complete (1000 rendered photos: mean centre error 0.0151 %
-  // of the extent against 0.0148 % with complete growth adjustments;
-  // bench/results/2026-12-03-global-ba-cg.md). The image threshold is far above the shared sets
-  // (at most 30 images), whose models it leaves unchanged bit for bit.
-  int growth_ba_max_point_observations = 10;
+  // lengths. The final adjustment stays complete. Off by default: with the conjugate gradients
+  // below it saves no CPU on an idle machine at 1000 rendered photos and costs a little accuracy
+  // (bench/results/2026-12-03-global-ba-cg.md); it cuts the mapper's peak memory by a fifth
+  // there (10 and 200 are the measured settings).
+  int growth_ba_max_point_observations = 0;
   int growth_ba_subset_min_images = 200;
   // Beyond the paper: a global adjustment of at least this many images solves its reduced
   // camera system by preconditioned conjugate gradients (0: never; ba/reduced_camera_pcg.cc):
-  // on a set that densifies the sparse factorisation's fill approaches a dense one (n^3).
-  // Far above the shared sets (at most 30 images), whose models it leaves unchanged bit for bit.
-  int global_ba_iterative_min_images = 250;
+  // on a set that densifies the sparse factorisation's fill approaches a dense one (n^3). Off
+  // by default: with the block-Jacobi preconditioner it converges slowly enough to cost what the
+  // factorisation costs (bench/results/2026-12-03-global-ba-cg.md; 250 is the measured setting).
+  int global_ba_iterative_min_images = 0;
   // Their conjugate gradients stop at this relative residual or iteration count.
   double global_ba_cg_tolerance = 1e-3;
   int global_ba_cg_max_iterations = 200;
