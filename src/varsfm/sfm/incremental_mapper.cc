@@ -445,9 +445,12 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
   ba.iterative_max_iterations = schedule.global_ba_cg_max_iterations;
   // `--log-level trace`: Ceres' iterations and full report (where the solver's time goes).
   ba.verbose = spdlog::should_log(spdlog::level::trace);
-  BundleAdjustmentConfig config = BundleAdjustmentConfig::Global(*rec);
-  config.max_point_observations = max_point_observations;
-  const auto ba_summary = RunBundleAdjustment(ba, config, rec);
+  const auto global_config = [&] {
+    BundleAdjustmentConfig config = BundleAdjustmentConfig::Global(*rec);
+    config.max_point_observations = max_point_observations;
+    return config;
+  };
+  const auto ba_summary = RunBundleAdjustment(ba, global_config(), rec);
   debug("global BA: {} residuals, {} iterations, {:.3f} s, RMS {:.3f} -> {:.3f} px",
         ba_summary.num_residuals, ba_summary.iterations, ba_summary.seconds,
         ba_summary.initial_rms_px, ba_summary.final_rms_px);
@@ -467,9 +470,7 @@ void IncrementalMapper::GlobalBundleAdjustment(Reconstruction* rec, MapperSummar
     debug("re-triangulation: {} new points, {} in all", added, rec->points3D().size());
     // Another adjustment only when re-triangulation changed the model noticeably.
     if (added > schedule.readjust_min_new_points_fraction * rec->NumObservations()) {
-      config = BundleAdjustmentConfig::Global(*rec);
-      config.max_point_observations = max_point_observations;
-      summary->num_global_ba_iterations += RunBundleAdjustment(ba, config, rec).iterations;
+      summary->num_global_ba_iterations += RunBundleAdjustment(ba, global_config(), rec).iterations;
       rec->FilterObservationsWithLargeError(schedule.filter_max_error_px);
       rec->FilterPointsWithSmallTriangulationAngle(schedule.filter_min_triangulation_angle_deg);
     }
