@@ -61,7 +61,9 @@ struct ReferenceWindow {
   float weight_sum = 0, mean = 0, variance = 0;
 };
 
-float Sample(const SourceGeometry& s, float x, float y) {
+// Forced inline: it runs for every window sample of every hypothesis, and GCC at -O2 leaves it
+// a call.
+[[gnu::always_inline]] inline float Sample(const SourceGeometry& s, float x, float y) {
   // Pixel centres at (i + 0.5, j + 0.5); clamped to the border.
   x = std::clamp(x - 0.5f, 0.0f, s.width - 1.001f);
   y = std::clamp(y - 0.5f, 0.0f, s.height - 1.001f);
