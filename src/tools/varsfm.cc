@@ -395,6 +395,13 @@ void AddMeshCommand(CLI::App* app) {
       ->check(kNotNegative);
   AddWithDefault(cmd, "--trim", options->surface.trim_factor,
                  "Poisson: drop faces farther than this x point spacing from the data (0: keep)");
+  varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;
+  AddWithDefault(cmd, "--max-edge-factor", delaunay.max_edge_factor,
+                 "delaunay: drop faces with an edge above this x the median edge (0: keep)");
+  AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
+                 "delaunay: close boundary loops of at most this many edges (0: none)");
+  AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,
+                 "delaunay: Taubin smoothing passes (0: vertices stay on the data)");
   cmd->callback([options] { varsfm::RunMesh(*options); });
 }
 
