@@ -5,6 +5,10 @@
 #include <cmath>
 #include <numbers>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
@@ -57,7 +61,10 @@ struct SourceGeometry {
 // weighted mean and variance of the intensities (they do not depend on the hypothesis).
 struct ReferenceWindow {
   int count = 0;
-  std::array<float, kMaxSamples> dx, dy, value, weight;
+  // Padded to whole groups of four (the SSE2 path of WarpedSamples reads them; the padding's
+  // offsets are 0, the centre).
+  alignas(16) std::array<float, kMaxSamples + 3> dx, dy;
+  std::array<float, kMaxSamples> value, weight;
   float weight_sum = 0, mean = 0, variance = 0;
 };
 
@@ -186,6 +193,7 @@ class DepthMapEstimator {
         w->dx[c] = dx, w->dy[c] = dy, w->value[c] = v, w->weight[c] = weight;
         sum_w += weight, sum_v += weight * v, sum_vv += weight * v * v;
       }
+    for (int c = w->count; c < w->count + 3; ++c) w->dx[c] = w->dy[c] = 0;
     w->weight_sum = static_cast<float>(sum_w);
     w->mean = static_cast<float>(sum_v / sum_w);
     w->variance = static_cast<float>(sum_vv / sum_w - (sum_v / sum_w) * (sum_v / sum_w));
@@ -218,6 +226,57 @@ class DepthMapEstimator {
            (1 - std::exp(-0.5f * (e_d * e_d + e_n * e_n)));
   }
 
+  // The source's intensities at the window's samples warped by H (h0: the centre's image);
+  // false when a sample falls behind the source camera. Four samples at a time where SSE2
+  // exists, with the scalar path's operations in its order, so both give the same bits.
+  static bool WarpedSamples(const ReferenceWindow& w, const SourceGeometry& s,
+                            const Eigen::Matrix3f& H, const Eigen::Vector3f& h0, float* out) {
+#if defined(__SSE2__)
+    const __m128 h0x = _mm_set1_ps(h0.x()), h0y = _mm_set1_ps(h0.y()), h0z = _mm_set1_ps(h0.z());
+    const __m128 ax = _mm_set1_ps(H(0, 0)), ay = _mm_set1_ps(H(1, 0)), az = _mm_set1_ps(H(2, 0));
+    const __m128 bx = _mm_set1_ps(H(0, 1)), by = _mm_set1_ps(H(1, 1)), bz = _mm_set1_ps(H(2, 1));
+    const __m128 min_z = _mm_set1_ps(1e-6f), half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
+    const __m128 one = _mm_set1_ps(1.0f);
+    const __m128 max_x = _mm_set1_ps(s.width - 1.001f), max_y = _mm_set1_ps(s.height - 1.001f);
+    for (int i = 0; i < w.count; i += 4) {
+      const __m128 dx = _mm_load_ps(&w.dx[i]), dy = _mm_load_ps(&w.dy[i]);
+      // h = (h0 + H.col(0) dx) + H.col(1) dy, as Eigen evaluates it.
+      const __m128 hx = _mm_add_ps(_mm_add_ps(h0x, _mm_mul_ps(ax, dx)), _mm_mul_ps(bx, dy));
+      const __m128 hy = _mm_add_ps(_mm_add_ps(h0y, _mm_mul_ps(ay, dx)), _mm_mul_ps(by, dy));
+      const __m128 hz = _mm_add_ps(_mm_add_ps(h0z, _mm_mul_ps(az, dx)), _mm_mul_ps(bz, dy));
+      const int lanes = std::min(4, w.count - i);
+      if (_mm_movemask_ps(_mm_cmple_ps(hz, min_z)) & ((1 << lanes) - 1)) return false;
+      // Sample(): the centre-based coordinates clamped to the border, then bilinear.
+      const __m128 x = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hx, hz), half), zero), max_x);
+      const __m128 y = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hy, hz), half), zero), max_y);
+      const __m128i x0 = _mm_cvttps_epi32(x), y0 = _mm_cvttps_epi32(y);
+      const __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(x0));
+      const __m128 fy = _mm_sub_ps(y, _mm_cvtepi32_ps(y0));
+      alignas(16) int32_t xs[4], ys[4];
+      _mm_store_si128(reinterpret_cast<__m128i*>(xs), x0);
+      _mm_store_si128(reinterpret_cast<__m128i*>(ys), y0);
+      alignas(16) float p00[4], p01[4], p10[4], p11[4];
+      for (int l = 0; l < 4; ++l) {
+        const float* r0 = s.pixels + static_cast<size_t>(ys[l]) * s.width + xs[l];
+        p00[l] = r0[0], p01[l] = r0[1], p10[l] = r0[s.width], p11[l] = r0[s.width + 1];
+      }
+      const __m128 a00 = _mm_load_ps(p00), a01 = _mm_load_ps(p01);
+      const __m128 a10 = _mm_load_ps(p10), a11 = _mm_load_ps(p11);
+      const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
+      const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
+      _mm_store_ps(out + i,
+                   _mm_add_ps(_mm_mul_ps(top, _mm_sub_ps(one, fy)), _mm_mul_ps(bottom, fy)));
+    }
+#else
+    for (int i = 0; i < w.count; ++i) {
+      const Eigen::Vector3f h = h0 + H.col(0) * w.dx[i] + H.col(1) * w.dy[i];
+      if (h.z() <= 1e-6f) return false;
+      out[i] = Sample(s, h.x() / h.z(), h.y() / h.z());
+    }
+#endif
+    return true;
+  }
+
   // 1 - bilateral-weighted NCC of the window against its warp into source s (Schoenberger et al.
   // 2016, eq. 9); kMaxCost when the centre falls behind the source or outside its image.
   float ViewCost(const ReferenceWindow& w, const SourceGeometry& s, const Eigen::Vector3f& m,
@@ -227,11 +286,11 @@ class DepthMapEstimator {
     if (h0.z() <= 1e-6f) return kMaxCost;
     const float cx = h0.x() / h0.z(), cy = h0.y() / h0.z();
     if (cx < 0 || cy < 0 || cx >= s.width || cy >= s.height) return kMaxCost;
+    alignas(16) std::array<float, kMaxSamples + 3> warped;
+    if (!WarpedSamples(w, s, H, h0, warped.data())) return kMaxCost;
     float sum_s = 0, sum_ss = 0, sum_rs = 0;
     for (int i = 0; i < w.count; ++i) {
-      const Eigen::Vector3f h = h0 + H.col(0) * w.dx[i] + H.col(1) * w.dy[i];
-      if (h.z() <= 1e-6f) return kMaxCost;
-      const float v = Sample(s, h.x() / h.z(), h.y() / h.z());
+      const float v = warped[i];
       const float wv = w.weight[i] * v;
       sum_s += wv, sum_ss += wv * v, sum_rs += wv * w.value[i];
     }
