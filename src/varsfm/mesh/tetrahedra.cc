@@ -25,26 +25,6 @@ using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, DataStructure>;
 
 namespace tetrahedra_internal {
 
-void IntersectTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                       const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                       double* t, double* inside) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d p = dir.cross(e2);
-  const double det = e1.dot(p);
-  if (det == 0 || !std::isfinite(det)) {
-    *t = 0;
-    *inside = -std::numeric_limits<double>::infinity();
-    return;
-  }
-  const double inv = 1.0 / det;
-  const Eigen::Vector3d s = origin - a;
-  const double u = s.dot(p) * inv;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = dir.dot(q) * inv;
-  *t = e2.dot(q) * inv;
-  *inside = std::min({u, v, 1.0 - u - v});
-}
-
 bool FirstCell(const Tetrahedra& tets, uint32_t vertex, const Eigen::Vector3d& direction,
                uint32_t* cell, int* facet, double* t) {
   const Eigen::Vector3d& origin = tets.points[vertex];

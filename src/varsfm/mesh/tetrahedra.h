@@ -3,12 +3,15 @@
 // flat arrays, and the walk of a ray through it: what the visibility surface
 // (delaunay_surface.h) needs. The arrays are read-only once built, so threads walk rays at once
 // (CGAL's own traversals mark cells in the triangulation and cannot be shared).
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace varsfm {
 
@@ -61,9 +64,26 @@ void WalkRay(const Tetrahedra& tets, uint32_t vertex, const Eigen::Vector3d& dir
 namespace tetrahedra_internal {
 // Where the ray origin + t dir meets the triangle (a, b, c) (Moller & Trumbore 1997): t, and the
 // smallest barycentric coordinate of the meeting point (negative outside; -inf when parallel).
-void IntersectTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-                       const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                       double* t, double* inside);
+// Inline: a ray's walk calls it three times per cell it crosses.
+inline void IntersectTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                              const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                              const Eigen::Vector3d& c, double* t, double* inside) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d p = dir.cross(e2);
+  const double det = e1.dot(p);
+  if (det == 0 || !std::isfinite(det)) {
+    *t = 0;
+    *inside = -std::numeric_limits<double>::infinity();
+    return;
+  }
+  const double inv = 1.0 / det;
+  const Eigen::Vector3d s = origin - a;
+  const double u = s.dot(p) * inv;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = dir.dot(q) * inv;
+  *t = e2.dot(q) * inv;
+  *inside = std::min({u, v, 1.0 - u - v});
+}
 // The finite cell incident to `vertex` whose facet opposite it the ray enters first, with that
 // facet's index and parameter; false when the ray leaves the convex hull at the vertex.
 bool FirstCell(const Tetrahedra& tets, uint32_t vertex, const Eigen::Vector3d& direction,
