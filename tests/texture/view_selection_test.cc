@@ -1,6 +1,7 @@
-// View selection as a labelling problem: alpha-expansion against brute force, exposure gains
-// recovered exactly, an occluder in one photo rejected by the photo-consistency check, and a
-// photo with a look of its own (haze) given fewer faces by the consensus term.
+// View selection as a labelling problem: alpha-expansion against brute force (and its early
+// stop), exposure gains recovered exactly, an occluder in one photo rejected by the
+// photo-consistency check, and a photo with a look of its own (haze) given fewer faces by the
+// consensus term.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -69,6 +70,19 @@ TEST(AlphaExpansion, ThreeLabelsWithinTheFactorTwoBound) {
     EXPECT_LE(PottsEnergy(p, labels), 2 * optimum + 1e-9) << seed;
     EXPECT_LE(PottsEnergy(p, labels), start) << seed;
   }
+}
+
+// Each cycle runs only when the one before lowered the energy by more than the tolerance: a
+// tolerance of 1 stops after the first cycle, and the result is then the one-cycle result.
+TEST(AlphaExpansion, ToleranceEndsTheCyclesEarly) {
+  const PottsProblem p = RandomGridProblem(12, 4, 0.6, 7);
+  std::vector<int> one_cycle(p.num_nodes(), 0), stopped(p.num_nodes(), 0),
+      converged(p.num_nodes(), 0);
+  ExpandLabels(p, 1, &one_cycle);
+  ExpandLabels(p, 10, &stopped, 1.0);
+  ExpandLabels(p, 10, &converged);
+  EXPECT_EQ(stopped, one_cycle);
+  EXPECT_LE(PottsEnergy(p, converged), PottsEnergy(p, stopped));
 }
 
 TEST(AlphaExpansion, NodesKeepTheirCandidates) {

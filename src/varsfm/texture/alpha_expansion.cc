@@ -83,12 +83,13 @@ double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels) 
   return energy;
 }
 
-void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels) {
+void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
+                  double tolerance) {
   double energy = PottsEnergy(problem, *labels);
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     for (int alpha = 0; alpha < problem.num_labels; ++alpha) ExpandOne(problem, alpha, labels);
     const double after = PottsEnergy(problem, *labels);
-    const bool converged = energy - after <= 1e-6 * std::abs(energy);
+    const bool converged = energy - after <= tolerance * std::abs(energy);
     energy = after;
     if (converged) break;
   }

@@ -31,8 +31,9 @@ struct PottsProblem {
 double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels);
 
 // Starts from `labels` (each a candidate of its node, or -1 for nodes without candidates) and
-// expands every label in turn, in a fixed order, until a whole cycle lowers the energy by less
-// than a relative 1e-6 or `max_cycles` are done. Deterministic.
-void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels);
+// expands every label in turn, in a fixed order, until a whole cycle lowers the energy by at most
+// `tolerance` x the energy before it or `max_cycles` are done. Deterministic.
+void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
+                  double tolerance = 1e-6);
 
 }  // namespace varsfm

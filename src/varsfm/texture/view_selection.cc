@@ -55,7 +55,8 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   }
   selection.labels = best_view;
   if (options.smoothness > 0)
-    ExpandLabels(problem, options.max_expansion_cycles, &selection.labels);
+    ExpandLabels(problem, options.max_expansion_cycles, &selection.labels,
+                 options.expansion_tolerance);
   for (size_t f = 0; f < faces.size(); ++f)
     selection.num_changed_by_smoothing += selection.labels[f] != best_view[f];
   selection.coverage = std::move(obs.coverage);
@@ -71,6 +72,7 @@ void ViewSelectionOptions::Check() const {
   CheckNonNegative("--smoothness", smoothness);
   CheckNonNegative("--consensus-weight", consensus_weight);
   CheckNonNegative("max_expansion_cycles", max_expansion_cycles);
+  CheckFraction("expansion_tolerance", expansion_tolerance);
 }
 
 }  // namespace varsfm

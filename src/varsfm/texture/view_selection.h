@@ -36,6 +36,10 @@ struct ViewSelectionOptions {
   // bench/results/2026-12-03-texture-consensus.md).
   double consensus_weight = 2.0;
   int max_expansion_cycles = 4;
+  // Alpha-expansion stops after a cycle that lowers the energy by at most this fraction: the
+  // first cycle takes nearly all of the decrease, and each later one costs as much time for a
+  // few faces.
+  double expansion_tolerance = 1e-3;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };
