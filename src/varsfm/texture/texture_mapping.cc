@@ -168,7 +168,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
         "texture: the mesh covers {:.2f} % of the photos on average (at least {:.2f} % expected): "
         "it is not the surface the photos show",
         100 * st.mean_coverage, 100 * options.min_mean_coverage);
-  const std::vector<std::array<int, 3>> neighbours = FaceNeighbours(mesh.faces);
+  const std::vector<std::array<int, 3>>& neighbours = selection.neighbours;
   std::vector<Chart> charts = GrowCharts(selection.labels, neighbours);
   st.seconds_selection = timer.Seconds();
   timer.Restart();

@@ -17,7 +17,8 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   FaceObservations obs = ObserveFaces(vertices, faces, views, load_image, options.observation);
   ViewSelection selection;
   selection.gains = EstimateExposureGains(obs, options.exposure);
-  const std::vector<std::array<int, 3>> neighbours = FaceNeighbours(faces);
+  selection.neighbours = FaceNeighbours(faces);
+  const std::vector<std::array<int, 3>>& neighbours = selection.neighbours;
   selection.num_rejected_observations =
       RejectInconsistentViews(selection.gains, neighbours, options.consistency, &obs);
 
