@@ -20,7 +20,7 @@ namespace varsfm {
 
 struct MultiViewStereoOptions {
   // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
-  int max_image_size = 640;
+  int max_image_size = 800;
   SourceViewOptions sources;
   PatchMatchOptions patchmatch;
   // A last pass with the planar prior of each view's confident, consistent depths (0 iterations:
