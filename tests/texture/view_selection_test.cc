@@ -55,7 +55,7 @@ TEST(AlphaExpansion, TwoLabelsReachTheGlobalMinimum) {
   for (unsigned seed = 1; seed <= 5; ++seed) {
     const PottsProblem p = RandomGridProblem(4, 2, 0.3, seed);
     std::vector<int> labels(p.num_nodes(), 0);
-    ExpandLabels(p, 5, &labels);
+    ExpandLabels(p, 5, &labels, 1e-6);
     EXPECT_NEAR(PottsEnergy(p, labels), BruteForceMinimum(p), 1e-6) << seed;
   }
 }
@@ -65,7 +65,7 @@ TEST(AlphaExpansion, ThreeLabelsWithinTheFactorTwoBound) {
     const PottsProblem p = RandomGridProblem(3, 3, 0.4, seed);
     std::vector<int> labels(p.num_nodes(), 0);
     const double start = PottsEnergy(p, labels);
-    ExpandLabels(p, 5, &labels);
+    ExpandLabels(p, 5, &labels, 1e-6);
     const double optimum = BruteForceMinimum(p);
     EXPECT_LE(PottsEnergy(p, labels), 2 * optimum + 1e-9) << seed;
     EXPECT_LE(PottsEnergy(p, labels), start) << seed;
@@ -78,9 +78,9 @@ TEST(AlphaExpansion, ToleranceEndsTheCyclesEarly) {
   const PottsProblem p = RandomGridProblem(12, 4, 0.6, 7);
   std::vector<int> one_cycle(p.num_nodes(), 0), stopped(p.num_nodes(), 0),
       converged(p.num_nodes(), 0);
-  ExpandLabels(p, 1, &one_cycle);
+  ExpandLabels(p, 1, &one_cycle, 1e-6);
   ExpandLabels(p, 10, &stopped, 1.0);
-  ExpandLabels(p, 10, &converged);
+  ExpandLabels(p, 10, &converged, 1e-6);
   EXPECT_EQ(stopped, one_cycle);
   EXPECT_LE(PottsEnergy(p, converged), PottsEnergy(p, stopped));
 }
@@ -91,7 +91,7 @@ TEST(AlphaExpansion, NodesKeepTheirCandidates) {
   p.candidate_labels[4] = 1;  // ... but the centre may only take label 1
   std::vector<int> labels(p.num_nodes(), 0);
   labels[4] = 1;
-  ExpandLabels(p, 5, &labels);
+  ExpandLabels(p, 5, &labels, 1e-6);
   EXPECT_EQ(labels[4], 1);
   for (int n : {0, 1, 2, 3, 5, 6, 7, 8}) EXPECT_EQ(labels[n], 0) << n;
 }

@@ -228,7 +228,8 @@ class DepthMapEstimator {
 
   // The source's intensities at the window's samples warped by H (h0: the centre's image);
   // false when a sample falls behind the source camera. Four samples at a time where SSE2
-  // exists, with the scalar path's operations in its order, so both give the same bits.
+  // exists, with the scalar path's operations in its order, so both give the same bits (in a
+  // build without FMA contraction, the default).
   static bool WarpedSamples(const ReferenceWindow& w, const SourceGeometry& s,
                             const Eigen::Matrix3f& H, const Eigen::Vector3f& h0, float* out) {
 #if defined(__SSE2__)

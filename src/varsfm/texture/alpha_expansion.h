@@ -34,6 +34,6 @@ double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels);
 // expands every label in turn, in a fixed order, until a whole cycle lowers the energy by at most
 // `tolerance` x the energy before it or `max_cycles` are done. Deterministic.
 void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
-                  double tolerance = 1e-6);
+                  double tolerance);
 
 }  // namespace varsfm

@@ -38,8 +38,8 @@ struct ViewSelectionOptions {
   double consensus_weight = 2.0;
   int max_expansion_cycles = 4;
   // Alpha-expansion stops after a cycle that lowers the energy by at most this fraction: the
-  // first cycle takes nearly all of the decrease (fountain-P11: 70 %, the second 0.8 %, the
-  // third 0.04 %), and each later one costs as much time for a few faces.
+  // first cycle takes nearly all of the decrease, and each later one costs as much time as the
+  // first for a handful of faces (bench/results/2026-12-03-dense-800.md).
   double expansion_tolerance = 1e-2;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
