@@ -314,6 +314,8 @@ void AddRunCommand(CLI::App* app) {
   AddChoice(cmd, "--surface", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
             "mesh stage: visibility-based Delaunay graph cut, screened Poisson, or advancing "
             "front");
+  AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
+                 "mesh stage: decimate to at most this many faces (0: keep all)");
   AddMapperOptions(cmd, &options->map);
   cmd->callback([options] { varsfm::RunAll(*options); });
 }
@@ -402,6 +404,8 @@ void AddMeshCommand(CLI::App* app) {
                  "delaunay: close boundary loops of at most this many edges (0: none)");
   AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,
                  "delaunay: Taubin smoothing passes (0: vertices stay on the data)");
+  AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
+                 "decimate to at most this many faces (quadric edge collapse; 0: keep all)");
   cmd->callback([options] { varsfm::RunMesh(*options); });
 }
 

@@ -128,6 +128,7 @@ TEST(OptionsCheck, Mesh) {
            {"--sigma", [](auto& o) { o.surface.delaunay.sigma = kNan; }},
            {"--min-component", [](auto& o) { o.surface.delaunay.min_component_fraction = 2; }},
            {"--smoothing", [](auto& o) { o.surface.delaunay.smoothing_iterations = -1; }},
+           {"--max-faces", [](auto& o) { o.surface.decimation.max_faces = 2; }},
            {"quality.max_relative_distance",
             [](auto& o) { o.surface.quality.max_relative_distance = 0; }},
            {"quality.max_relative_distance",

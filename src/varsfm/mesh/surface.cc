@@ -87,6 +87,7 @@ void SurfaceOptions::Check() const {
   CheckAtLeast("--max-points", max_points, 10u);
   CheckNonNegative("--trim", trim_factor);
   delaunay.Check();
+  decimation.Check();
   quality.Check();
 }
 
@@ -131,6 +132,10 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
     s.faces_before_trim = mesh.faces.size();
   }
   s.average_spacing = spacing;
+  s.decimated_faces = DecimateMesh(options.decimation, &mesh);
+  if (s.decimated_faces > 0)
+    spdlog::info("surface: decimated to {} faces ({} removed)", mesh.faces.size(),
+                 s.decimated_faces);
   const bool trim = poisson && options.trim_factor > 0;
   const double reach = (trim ? options.trim_factor : 3.0) * spacing;
   TrimAndColour(cloud, reach, trim, &mesh);

@@ -17,6 +17,7 @@
 // there). It also needed the cloud cut to 60,000 points to run in time.
 #include <string>
 
+#include "varsfm/mesh/decimation.h"
 #include "varsfm/mesh/delaunay_surface.h"
 #include "varsfm/mesh/mesh_quality.h"
 #include "varsfm/scene/point_cloud.h"
@@ -54,6 +55,8 @@ struct SurfaceOptions {
   // holes. <= 0 keeps the whole surface.
   double trim_factor = 3.0;
   DelaunaySurfaceOptions delaunay;
+  // Any method's surface, last: decimated to a face budget (0: none; decimation.h).
+  DecimationOptions decimation;
   MeshQualityLimits quality;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
@@ -66,7 +69,8 @@ struct SurfaceStats {
   int depth = 0;  // screened Poisson's octree depth
   DelaunaySurfaceStats delaunay;
   size_t faces_before_trim = 0;
-  MeshQuality quality;  // of the final mesh against the input points
+  size_t decimated_faces = 0;  // removed by decimation
+  MeshQuality quality;         // of the final mesh against the input points
 };
 
 // `options` must have passed Check() (the mesh stage checks them once, where it starts). Throws
