@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
         surface.delaunay.hole_filling.max_edges = static_cast<int>(holes);
         surface.Check();  // ReconstructSurface expects checked options
       }
+    std::vector<varsfm::TriangleMesh> meshes;
     for (const auto& [name, surface] : variants) {
       timer.Restart();
       const varsfm::TriangleMesh mesh = varsfm::ReconstructSurface(cloud, surface);
@@ -103,6 +104,24 @@ int main(int argc, char** argv) {
       std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.4f / %.4f | %.1f |\n", name.c_str(),
                   mesh.faces.size(), s.accuracy, s.completeness, s.fscore,
                   s.median_accuracy_distance, s.median_completeness_distance, seconds);
+      meshes.push_back(mesh);
+    }
+    // Where completeness is lost: each face of the scene (a quad of the room or a box) scored
+    // alone against the last variant's mesh.
+    std::printf("\nCompleteness per face of the scene (%s):\n\n", variants.back().first.c_str());
+    std::printf(
+        "| face | centre | normal | observed area | completeness |\n|---|---|---|---|---|\n");
+    for (size_t q = 0; q < scene.surface.size(); ++q) {
+      const varsfm::SurfaceQuad& quad = scene.surface[q];
+      const varsfm::TriangleMesh face = varsfm::SurfaceMesh({quad});
+      const varsfm::SurfaceScore s = varsfm::ScoreSurface(meshes.back(), face, score_options, seen);
+      if (s.truth_samples == 0) continue;
+      const Eigen::Vector3d c = quad.origin + 0.5 * (quad.u + quad.v);
+      const Eigen::Vector3d n = quad.u.cross(quad.v).normalized();
+      const double spacing = score_options.tolerance / 4;
+      std::printf("| %zu | (%.2f, %.2f, %.2f) | (%.2f, %.2f, %.2f) | %.2f | %.3f |\n", q, c.x(),
+                  c.y(), c.z(), n.x(), n.y(), n.z(), s.truth_samples * spacing * spacing,
+                  s.completeness);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "surface_fscore: %s\n", e.what());
