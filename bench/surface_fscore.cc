@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
       if (seen(p)) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     varsfm::SurfaceScoreOptions score_options;
     score_options.tolerance = tolerance * (hi - lo).norm();
+    score_options.sample_spacing = score_options.tolerance / 4;  // the per-face areas use it
     std::printf("extent %.3f, tolerance %.4f\n\n", (hi - lo).norm(), score_options.tolerance);
     std::printf("| surface | faces | accuracy | completeness | F-score | median distances | s |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
@@ -118,7 +119,7 @@ int main(int argc, char** argv) {
       if (s.truth_samples == 0) continue;
       const Eigen::Vector3d c = quad.origin + 0.5 * (quad.u + quad.v);
       const Eigen::Vector3d n = quad.u.cross(quad.v).normalized();
-      const double spacing = score_options.tolerance / 4;
+      const double spacing = score_options.sample_spacing;
       std::printf("| %zu | (%.2f, %.2f, %.2f) | (%.2f, %.2f, %.2f) | %.2f | %.3f |\n", q, c.x(),
                   c.y(), c.z(), n.x(), n.y(), n.z(), s.truth_samples * spacing * spacing,
                   s.completeness);

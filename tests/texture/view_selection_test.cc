@@ -75,12 +75,14 @@ TEST(AlphaExpansion, ThreeLabelsWithinTheFactorTwoBound) {
 // Each cycle runs only when the one before lowered the energy by more than the tolerance: a
 // tolerance of 1 stops after the first cycle, and the result is then the one-cycle result.
 TEST(AlphaExpansion, ToleranceEndsTheCyclesEarly) {
-  const PottsProblem p = RandomGridProblem(12, 4, 0.6, 7);
+  const PottsProblem p = RandomGridProblem(12, 4, 0.2, 7);
   std::vector<int> one_cycle(p.num_nodes(), 0), stopped(p.num_nodes(), 0),
       converged(p.num_nodes(), 0);
   ExpandLabels(p, 1, &one_cycle, 1e-6);
   ExpandLabels(p, 10, &stopped, 1.0);
   ExpandLabels(p, 10, &converged, 1e-6);
+  // The problem needs more than one cycle, so a tolerance that were ignored would show.
+  ASSERT_NE(converged, one_cycle);
   EXPECT_EQ(stopped, one_cycle);
   EXPECT_LE(PottsEnergy(p, converged), PottsEnergy(p, stopped));
 }
