@@ -121,7 +121,8 @@ TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
     distances.push_back(PlaneDistance(quads, X, &n));
     normal_errors.push_back(std::acos(std::min(1.0, std::abs(n.dot(cloud.normals[i])))) * 180 /
                             M_PI);
-    ASSERT_GE(visibility[i].size(), 3u);  // the default min_fused_views
+    // The default min_fused_views (3), or 2 for a depth confident enough to stand on two views.
+    ASSERT_GE(visibility[i].size(), 2u);
     ASSERT_TRUE(std::is_sorted(visibility[i].begin(), visibility[i].end()));
     // Each image said to see the point sees it: the first surface along its ray is the point's.
     for (image_t id : visibility[i]) {

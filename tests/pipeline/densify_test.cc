@@ -17,8 +17,8 @@ namespace {
 using testing::TempDir;
 
 // Runs densify on `model` and returns the error message ("" when it did not throw).
-std::string DensifyError(const std::filesystem::path& model, const TempDir& tmp) {
-  DensifyOptions options;
+std::string DensifyError(const std::filesystem::path& model, const TempDir& tmp,
+                         DensifyOptions options = {}) {
   options.sparse = model;
   options.image_dir = tmp.path();
   options.output = tmp.path() / "out";
@@ -63,10 +63,11 @@ TEST(DensifyCommand, OneImageModelIsAnError) {
   EXPECT_NE(message.find("sparse"), std::string::npos) << message;
 }
 
-// Two true views of the rendered scene: PatchMatch finds depths, but a depth is kept only where
-// two other views confirm it, so no point can come out; the error says so instead of a later
+// Two true views of the rendered scene. By default a confident depth stands on one confirming
+// view, so the two views give a cloud. Where every depth needs two confirming views
+// (--dense-two-view-cost 0), no point can come out, and the error says so instead of a later
 // stage meeting an empty dense.ply.
-TEST(DensifyCommand, TwoImageModelExplainsTheEmptyCloud) {
+TEST(DensifyCommand, TwoImageModelGivesPointsOrExplainsTheEmptyCloud) {
   const TempDir tmp("densify_two");
   RenderedSceneOptions render;
   render.num_images = 2;
@@ -80,7 +81,13 @@ TEST(DensifyCommand, TwoImageModelExplainsTheEmptyCloud) {
   for (const auto& [id, image] : rec.images())
     rec.image(id).name = fmt::format("image_{:04d}.png", index++);
   WriteColmapModel(rec, tmp.path() / "sparse");
-  const std::string message = DensifyError(tmp.path() / "sparse", tmp);
+  EXPECT_EQ(DensifyError(tmp.path() / "sparse", tmp), "");
+  EXPECT_GT(std::filesystem::file_size(tmp.path() / "out" / "dense.ply"), 1000u);
+
+  std::filesystem::remove_all(tmp.path() / "out");
+  DensifyOptions strict;
+  strict.dense.mvs.fusion.two_view_max_cost = 0;
+  const std::string message = DensifyError(tmp.path() / "sparse", tmp, strict);
   EXPECT_NE(message.find("2 registered images"), std::string::npos) << message;
   EXPECT_NE(message.find("3 views agree"), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;

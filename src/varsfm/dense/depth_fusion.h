@@ -32,8 +32,8 @@ struct DepthFusionOptions {
   // A surface near the cameras or at the edge of the capture is seen by only two views, which
   // the counts above leave out however right its depths. A depth whose photometric cost is at
   // most this (1 - NCC) needs one confirming view and fuses with two (0: no such exception).
-  // Held-out figures for 0.1 and 0.2: bench/results/2026-12-03-ground.md.
-  double two_view_max_cost = 0;
+  // Held-out figures: bench/results/2026-12-03-two-view-default.md.
+  double two_view_max_cost = 0.1;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };

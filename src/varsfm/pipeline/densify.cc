@@ -1,5 +1,7 @@
 #include "varsfm/pipeline/densify.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "varsfm/io/model_photo.h"
@@ -50,17 +52,22 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
 }
 
 // Why a dense stage can end with no point: PatchMatch keeps a depth only where
-// min_consistent_views other views confirm it, so fewer registered images than that plus one
-// can never give a point; with more, the views share too little surface.
+// min_consistent_views other views confirm it (one, for a confident depth when two-view depths
+// are on), so fewer registered images than that plus one can never give a point; with more, the
+// views share too little surface.
 std::string EmptyCloudMessage(const Reconstruction& rec, const DenseReconstructionOptions& dense) {
   const size_t registered = rec.NumRegisteredImages();
   if (dense.method != DenseMethod::kPropagation) {
-    const int needed = dense.mvs.fusion.min_consistent_views + 1;
+    const DepthFusionOptions& fusion = dense.mvs.fusion;
+    const int needed = (fusion.two_view_max_cost > 0 ? std::min(fusion.min_consistent_views, 1)
+                                                     : fusion.min_consistent_views) +
+                       1;
     if (registered < static_cast<size_t>(needed))
       return fmt::format(
           "densify: no dense point: the model has {} registered images, and a depth is kept only "
-          "where {} views agree (--dense-min-consistent {}); add photos of the scene",
-          registered, needed, dense.mvs.fusion.min_consistent_views);
+          "where {} views agree (--dense-min-consistent {}, --dense-two-view-cost {}); add "
+          "photos of the scene",
+          registered, needed, fusion.min_consistent_views, fusion.two_view_max_cost);
   }
   return fmt::format(
       "densify: no dense point from {} registered images: no depth was confirmed across views "
