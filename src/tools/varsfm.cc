@@ -398,6 +398,8 @@ void AddMeshCommand(CLI::App* app) {
   AddWithDefault(cmd, "--trim", options->surface.trim_factor,
                  "Poisson: drop faces farther than this x point spacing from the data (0: keep)");
   varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;
+  AddWithDefault(cmd, "--merge-spacing", delaunay.merge_spacing,
+                 "delaunay: merge points within this x the cloud's average spacing");
   AddWithDefault(cmd, "--max-edge-factor", delaunay.max_edge_factor,
                  "delaunay: drop faces with an edge above this x the median edge (0: keep)");
   AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
