@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
         surface.delaunay.hole_filling.max_edges = static_cast<int>(holes);
         surface.Check();  // ReconstructSurface expects checked options
       }
-    std::vector<varsfm::TriangleMesh> meshes;
+    varsfm::TriangleMesh last_mesh;
     for (const auto& [name, surface] : variants) {
       timer.Restart();
       const varsfm::TriangleMesh mesh = varsfm::ReconstructSurface(cloud, surface);
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
       std::printf("| %s | %zu | %.3f | %.3f | %.3f | %.4f / %.4f | %.1f |\n", name.c_str(),
                   mesh.faces.size(), s.accuracy, s.completeness, s.fscore,
                   s.median_accuracy_distance, s.median_completeness_distance, seconds);
-      meshes.push_back(mesh);
+      last_mesh = mesh;
     }
     // Where completeness is lost: each face of the scene (a quad of the room or a box) scored
     // alone against the last variant's mesh.
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
     for (size_t q = 0; q < scene.surface.size(); ++q) {
       const varsfm::SurfaceQuad& quad = scene.surface[q];
       const varsfm::TriangleMesh face = varsfm::SurfaceMesh({quad});
-      const varsfm::SurfaceScore s = varsfm::ScoreSurface(meshes.back(), face, score_options, seen);
+      const varsfm::SurfaceScore s = varsfm::ScoreSurface(last_mesh, face, score_options, seen);
       if (s.truth_samples == 0) continue;
       const Eigen::Vector3d c = quad.origin + 0.5 * (quad.u + quad.v);
       const Eigen::Vector3d n = quad.u.cross(quad.v).normalized();

@@ -94,10 +94,10 @@ void FilterByGeometricConsistency(std::vector<FusionView>* views,
     tbb::parallel_for(0, map.height, [&](int y) {
       for (int x = 0; x < map.width; ++x)
         if (map.depth[map.Index(x, y)] > 0)
-          keep[v][map.Index(x, y)] = ConsistentViews(*views, geometry, v, x, y, options) >=
-                                     (TwoViewDepth(map, map.Index(x, y), options)
-                                          ? std::min(options.min_consistent_views, 1)
-                                          : options.min_consistent_views);
+          keep[v][map.Index(x, y)] =
+              ConsistentViews(*views, geometry, v, x, y, options) >=
+              (TwoViewDepth(map, map.Index(x, y), options) ? options.FewestConfirmingViews()
+                                                           : options.min_consistent_views);
     });
   });
   for (size_t v = 0; v < views->size(); ++v) {

@@ -6,6 +6,7 @@
 // point, the pixels of the other views where that point projects join it when their depth and
 // normal agree, and the point is kept when enough views joined. Each fused point carries the
 // images that see it (its visibility), which a visibility-based surface needs.
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,6 +35,12 @@ struct DepthFusionOptions {
   // most this (1 - NCC) needs one confirming view and fuses with two (0: no such exception).
   // Held-out figures: bench/results/2026-12-03-two-view-default.md.
   double two_view_max_cost = 0.1;
+
+  // The fewest other views any depth needs to confirm it: min_consistent_views, or at most one
+  // when two-view depths are on. One rule for the filter and for explaining an empty cloud.
+  int FewestConfirmingViews() const {
+    return two_view_max_cost > 0 ? std::min(min_consistent_views, 1) : min_consistent_views;
+  }
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };

@@ -1,7 +1,5 @@
 #include "varsfm/pipeline/densify.h"
 
-#include <algorithm>
-
 #include <nlohmann/json.hpp>
 
 #include "varsfm/io/model_photo.h"
@@ -59,9 +57,7 @@ std::string EmptyCloudMessage(const Reconstruction& rec, const DenseReconstructi
   const size_t registered = rec.NumRegisteredImages();
   if (dense.method != DenseMethod::kPropagation) {
     const DepthFusionOptions& fusion = dense.mvs.fusion;
-    const int needed = (fusion.two_view_max_cost > 0 ? std::min(fusion.min_consistent_views, 1)
-                                                     : fusion.min_consistent_views) +
-                       1;
+    const int needed = fusion.FewestConfirmingViews() + 1;
     if (registered < static_cast<size_t>(needed))
       return fmt::format(
           "densify: no dense point: the model has {} registered images, and a depth is kept only "
