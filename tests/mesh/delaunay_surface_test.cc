@@ -12,7 +12,6 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
-#include "varsfm/mesh/graph_cut.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
@@ -235,20 +234,6 @@ TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
     EXPECT_NE(std::string(e.what()).find("dense.ply.vis"), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
   }
-}
-
-TEST(MinCut, CutsTheCheapestEdges) {
-  // source -> 0 (5), 0 -> 1 (1), 1 -> sink (5), 0 -> sink (2), source -> 1 (1): the least cut
-  // separates 0 (source side) from 1 (sink side) and pays source -> 1, 0 -> 1 and 0 -> sink: 4.
-  MinCut cut(2);
-  cut.SetTerminalWeights(0, 5, 2);
-  cut.SetTerminalWeights(1, 1, 5);
-  cut.AddEdge(0, 1, 1, 0);
-  double flow = 0;
-  const std::vector<bool> source_side = cut.Solve(&flow);
-  EXPECT_DOUBLE_EQ(flow, 4);  // 0 -> sink 2, 0 -> 1 -> sink 1, source -> 1 -> sink 1
-  EXPECT_TRUE(source_side[0]);
-  EXPECT_FALSE(source_side[1]);
 }
 
 }  // namespace

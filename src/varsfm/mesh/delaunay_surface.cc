@@ -109,7 +109,7 @@ std::vector<bool> LabelCells(const Tetrahedra& tets, const RayWeights& weights,
                              double quality_weight) {
   const std::vector<std::array<float, 4>> cosines = FacetSphereCosines(tets);
   const size_t n = tets.cells.size();
-  MinCut cut(n);
+  MinCut cut(n, 2 * n);  // a closed triangulation has two facets per cell
   for (uint32_t c = 0; c < n; ++c) {
     if (tets.IsInfinite(c)) {
       cut.SetTerminalWeights(c, kCertain, 0);
