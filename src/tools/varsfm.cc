@@ -30,6 +30,7 @@
 #include "varsfm/pipeline/texture.h"
 #include "varsfm/util/enum_names.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/heap_policy.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 
@@ -499,6 +500,7 @@ std::string OneLineFailure(const CLI::App*, const CLI::Error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  varsfm::KeepFreedMemoryForReuse();
   spdlog::set_level(spdlog::level::info);
   spdlog::set_pattern("[%H:%M:%S] %^%l%$ %v");
   CLI::App app{"varsfm: structure from motion for cameras with varying intrinsics"};
