@@ -81,6 +81,14 @@ struct ReferenceWindow {
   return (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
 }
 
+#if defined(__SSE2__)
+// Two adjacent floats (p[0], p[1]) in the low lanes of a register, by one 64-bit load (__m64
+// may alias any type).
+[[gnu::always_inline]] inline __m128 Pair(const float* p) {
+  return _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(p));
+}
+#endif
+
 class DepthMapEstimator {
  public:
   // `upsampled` (null, or the reference's size): the planes of the next coarser level, or of the
@@ -256,13 +264,21 @@ class DepthMapEstimator {
       alignas(16) int32_t xs[4], ys[4];
       _mm_store_si128(reinterpret_cast<__m128i*>(xs), x0);
       _mm_store_si128(reinterpret_cast<__m128i*>(ys), y0);
-      alignas(16) float p00[4], p01[4], p10[4], p11[4];
-      for (int l = 0; l < 4; ++l) {
-        const float* r0 = s.pixels + static_cast<size_t>(ys[l]) * s.width + xs[l];
-        p00[l] = r0[0], p01[l] = r0[1], p10[l] = r0[s.width], p11[l] = r0[s.width + 1];
-      }
-      const __m128 a00 = _mm_load_ps(p00), a01 = _mm_load_ps(p01);
-      const __m128 a10 = _mm_load_ps(p10), a11 = _mm_load_ps(p11);
+      // Each lane's 2 x 2 neighbourhood as (p00, p01) and (p10, p11) pairs, gathered into
+      // registers directly (scalar stores read back as a vector would stall store forwarding).
+      const float* r[4];
+      for (int l = 0; l < 4; ++l) r[l] = s.pixels + static_cast<size_t>(ys[l]) * s.width + xs[l];
+      const size_t w1 = static_cast<size_t>(s.width);
+      const __m128 top0 = Pair(r[0]), top1 = Pair(r[1]), top2 = Pair(r[2]), top3 = Pair(r[3]);
+      const __m128 bot0 = Pair(r[0] + w1), bot1 = Pair(r[1] + w1), bot2 = Pair(r[2] + w1),
+                   bot3 = Pair(r[3] + w1);
+      // (x0, y0, x1, y1) x2 -> (x0, x1, ...) : lanes 0/2 of the pairs are the left pixels.
+      const __m128 t01 = _mm_movelh_ps(top0, top1), t23 = _mm_movelh_ps(top2, top3);
+      const __m128 b01 = _mm_movelh_ps(bot0, bot1), b23 = _mm_movelh_ps(bot2, bot3);
+      const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 a01 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(3, 1, 3, 1));
+      const __m128 a10 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
+      const __m128 a11 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
       const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
       const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
       _mm_store_ps(out + i,
