@@ -172,6 +172,7 @@ TEST(MinCut, AgreesWithBoostOnLargeGrids) {
 TEST(MinCut, RefusesBadInput) {
   MinCut cut(3);
   EXPECT_THROW(cut.SetTerminalWeights(0, -1, 0), Error);
+  EXPECT_THROW(cut.SetTerminalWeights(3, 1, 0), Error);
   EXPECT_THROW(cut.AddEdge(0, 1, 1, -2), Error);
   EXPECT_THROW(cut.AddEdge(1, 1, 1, 1), Error);
   EXPECT_THROW(cut.AddEdge(0, 3, 1, 1), Error);

@@ -272,7 +272,7 @@ class DepthMapEstimator {
       const __m128 top0 = Pair(r[0]), top1 = Pair(r[1]), top2 = Pair(r[2]), top3 = Pair(r[3]);
       const __m128 bot0 = Pair(r[0] + w1), bot1 = Pair(r[1] + w1), bot2 = Pair(r[2] + w1),
                    bot3 = Pair(r[3] + w1);
-      // (x0, y0, x1, y1) x2 -> (x0, x1, ...) : lanes 0/2 of the pairs are the left pixels.
+      // t01 = (left 0, right 0, left 1, right 1): the even lanes are the left pixels.
       const __m128 t01 = _mm_movelh_ps(top0, top1), t23 = _mm_movelh_ps(top2, top3);
       const __m128 b01 = _mm_movelh_ps(bot0, bot1), b23 = _mm_movelh_ps(bot2, bot3);
       const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));

@@ -253,30 +253,31 @@ class BoykovKolmogorov {
 
 }  // namespace
 
-MinCut::MinCut(size_t num_nodes, size_t expected_edges)
-    : num_nodes_(num_nodes), terminal_(num_nodes, 0.0) {
+MinCut::MinCut(size_t num_nodes, size_t expected_edges) : terminal_(num_nodes, 0.0) {
   if (num_nodes >= kOrphan) Fail("min cut: {} nodes, too many", num_nodes);
   edges_.reserve(expected_edges);
 }
 
 void MinCut::SetTerminalWeights(size_t node, double source_capacity, double sink_capacity) {
   if (!(source_capacity >= 0 && sink_capacity >= 0)) Fail("min cut: negative terminal weight");
+  if (node >= terminal_.size()) Fail("min cut: no node {}", node);
   // Both links of a node carry min(source, sink) straight through it; only the rest is left.
   double& t = terminal_[node];
-  double to_source = std::max(t, 0.0) + source_capacity;
-  double to_sink = std::max(-t, 0.0) + sink_capacity;
+  const double to_source = std::max(t, 0.0) + source_capacity;
+  const double to_sink = std::max(-t, 0.0) + sink_capacity;
   terminal_flow_ += std::min(to_source, to_sink);
   t = to_source - to_sink;
 }
 
 void MinCut::AddEdge(size_t a, size_t b, double capacity_ab, double capacity_ba) {
   if (!(capacity_ab >= 0 && capacity_ba >= 0)) Fail("min cut: negative capacity");
-  if (a == b || a >= num_nodes_ || b >= num_nodes_) Fail("min cut: bad edge {} -> {}", a, b);
+  if (a == b || a >= terminal_.size() || b >= terminal_.size())
+    Fail("min cut: bad edge {} -> {}", a, b);
   edges_.push_back({static_cast<uint32_t>(a), static_cast<uint32_t>(b), capacity_ab, capacity_ba});
 }
 
 std::vector<bool> MinCut::Solve(double* flow) {
-  const size_t n = num_nodes_;
+  const size_t n = terminal_.size();  // moved into the solver below
   const size_t num_arcs = 2 * edges_.size();
   if (num_arcs >= kOrphan) Fail("min cut: {} edges, too many", edges_.size());
   std::vector<uint32_t> first(n + 1, 0);

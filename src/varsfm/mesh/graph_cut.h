@@ -7,11 +7,11 @@
 // smallest source side of all minimum cuts, which does not depend on how the flow was found.
 //
 // Written here rather than taken from Boost.Graph's boykov_kolmogorov_max_flow because that one
-// stores every terminal link as a pair of explicit edges with 64-bit descriptors: on the surface
-// cut of a 2-million-tetrahedron graph it held about 1 GB and spent a third of its time faulting
-// that memory in (bench/results/2026-12-03-min-cut.md). Here terminal capacities are one number
-// per node (their common part is pushed at once, as in Kolmogorov's maxflow library) and an arc is
-// 16 bytes.
+// stores every terminal link as a pair of explicit edges with 64-bit descriptors: with it the mesh
+// stage of fountain-P11 (a 2-million-tetrahedron cut) peaked at 1.4 GB and a quarter of its
+// samples were page faults, most under the cut (bench/results/2026-12-03-min-cut.md). Here terminal
+// capacities are one number per node (their common part is pushed at once, as in Kolmogorov's
+// maxflow library) and an arc is 16 bytes.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -38,8 +38,7 @@ class MinCut {
     uint32_t a, b;
     double capacity_ab, capacity_ba;
   };
-  size_t num_nodes_;
-  std::vector<double> terminal_;  // source minus sink capacity per node
+  std::vector<double> terminal_;  // source minus sink capacity per node (one per node)
   double terminal_flow_ = 0;      // what the terminal links of a node carry straight through it
   std::vector<Edge> edges_;
 };
