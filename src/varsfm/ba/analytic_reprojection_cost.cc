@@ -110,6 +110,7 @@ AnalyticReprojectionCost::AnalyticReprojectionCost(const Eigen::Vector2d& observ
     : observed_(observed), blocks_(blocks), shared_mask_(shared_mask) {
   set_num_residuals(2);
   auto* sizes = mutable_parameter_block_sizes();
+  sizes->reserve(4);  // one allocation per residual: a global adjustment builds millions
   sizes->push_back(blocks == ReprojectionBlocks::kImage ? Camera::kNumParams + 7
                                                         : Camera::kNumParams);
   if (shared_mask) sizes->push_back(Camera::kNumParams);

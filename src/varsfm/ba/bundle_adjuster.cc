@@ -12,6 +12,7 @@
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
 #include "varsfm/ba/schur_solver.h"
+#include "varsfm/util/error.h"
 #include "varsfm/util/timer.h"
 
 #include <fmt/format.h>
@@ -111,10 +112,12 @@ double RmsError(const Reconstruction& rec, const std::vector<Observation>& obser
 // a variable-pose image observes; points seen fewer than twice in the problem are skipped.
 std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& config,
                                              const Reconstruction& rec) {
-  std::set<point3D_t> point_ids;
+  std::vector<point3D_t> point_ids;  // ascending, each once
   for (const image_t id : config.variable_pose_images)
     for (const Point2D& p : rec.image(id).points2D)
-      if (p.HasPoint3D()) point_ids.insert(p.point3D_id);
+      if (p.HasPoint3D()) point_ids.push_back(p.point3D_id);
+  std::sort(point_ids.begin(), point_ids.end());
+  point_ids.erase(std::unique(point_ids.begin(), point_ids.end()), point_ids.end());
   std::vector<Observation> observations;
   for (const point3D_t pid : point_ids) {
     const size_t begin = observations.size();
@@ -155,8 +158,8 @@ class ParameterBuffer {
   // `group_members`: the cameras that take parameters from their size's shared block.
   ParameterBuffer(const Reconstruction& rec, const std::set<image_t>& images,
                   const std::set<SizeKey>& shared_sizes, const std::set<camera_t>& group_members,
-                  unsigned shared_mask, const std::set<point3D_t>& points)
-      : group_members_(group_members), shared_mask_(shared_mask) {
+                  unsigned shared_mask, const std::vector<point3D_t>& points)
+      : group_members_(group_members), shared_mask_(shared_mask), point_ids_(points) {
     std::map<camera_t, int> images_of_camera;
     for (const image_t id : images) ++images_of_camera[rec.image(id).camera_id];
     data_.reserve(images.size() * (Camera::kNumParams + 7) +
@@ -199,8 +202,8 @@ class ParameterBuffer {
     }
     for (const image_t id : images)
       if (!image_block_.count(id)) add_pose(id);
+    points_begin_ = data_.size();
     for (const point3D_t id : points) {
-      point_[id] = data_.size();
       const Eigen::Vector3d& x = rec.point3D(id).xyz;
       data_.insert(data_.end(), x.data(), x.data() + 3);
     }
@@ -211,7 +214,7 @@ class ParameterBuffer {
   bool HasImageBlock(image_t id) const { return image_block_.count(id) > 0; }
   double* camera(camera_t id) { return &data_[camera_.at(id)]; }
   double* pose(image_t id) { return &data_[pose_.at(id)]; }  // quaternion, centre
-  double* point(point3D_t id) { return &data_[point_.at(id)]; }
+  double* point(point3D_t id) { return &data_[PointOffset(id)]; }
   double* group(const SizeKey& size) { return &data_[group_.at(size)]; }
   // The shared block the camera takes parameters from; null when it has none.
   double* group(const Camera& camera) {
@@ -243,12 +246,20 @@ class ParameterBuffer {
       pose.rotation.normalize();
       pose.translation = -(pose.rotation * Eigen::Map<const Eigen::Vector3d>(&data_[offset + 4]));
     }
-    for (const auto& [id, offset] : point_)
-      if (!config.constant_points.count(id))
-        rec->point3D(id).xyz = Eigen::Map<const Eigen::Vector3d>(&data_[offset]);
+    for (size_t i = 0; i < point_ids_.size(); ++i)
+      if (!config.constant_points.count(point_ids_[i]))
+        rec->point3D(point_ids_[i]).xyz =
+            Eigen::Map<const Eigen::Vector3d>(&data_[points_begin_ + 3 * i]);
   }
 
  private:
+  size_t PointOffset(point3D_t id) const {
+    const auto it = std::lower_bound(point_ids_.begin(), point_ids_.end(), id);
+    if (it == point_ids_.end() || *it != id)
+      Fail("bundle adjustment: point {} not in the problem", id);
+    return points_begin_ + 3 * static_cast<size_t>(it - point_ids_.begin());
+  }
+
   std::vector<double> data_;
   std::vector<double> initial_;  // data_ before solving
   std::set<image_t> image_block_;
@@ -257,7 +268,8 @@ class ParameterBuffer {
   std::set<camera_t> group_members_;
   unsigned shared_mask_ = 0;
   std::map<image_t, size_t> pose_;
-  std::map<point3D_t, size_t> point_;
+  std::vector<point3D_t> point_ids_;  // ascending; their xyz from points_begin_ on
+  size_t points_begin_ = 0;
 };
 
 // Bit i set: parameter i is shared per image size.
@@ -468,7 +480,7 @@ namespace {
 struct AssembledProblem {
   const BundleAdjustmentOptions& options;
   const std::set<image_t>& images;
-  const std::set<point3D_t>& points;
+  const std::vector<point3D_t>& points;  // ascending
   const std::set<double*>& used_groups;  // the shared per-size blocks in use
   size_t num_observations;
   ParameterBuffer& buffer;
@@ -609,11 +621,12 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
 
   std::set<image_t> problem_images;
   std::set<camera_t> problem_cameras;
-  std::set<point3D_t> problem_points;
+  std::vector<point3D_t> problem_points;  // ascending: the observations come point by point
   for (const Observation& o : observations) {
     problem_images.insert(o.image_id);
     problem_cameras.insert(rec.image(o.image_id).camera_id);
-    problem_points.insert(o.point3D_id);
+    if (problem_points.empty() || problem_points.back() != o.point3D_id)
+      problem_points.push_back(o.point3D_id);
   }
   const unsigned shared_mask = SharedMask(options.intrinsics);
   std::set<ParameterBuffer::SizeKey> shared_sizes;

@@ -17,38 +17,84 @@ namespace varsfm {
 // point involves both; each block row is sorted, its diagonal block first. The system is
 // factorised sparse when it has many columns and few blocks (a sequence: each image shares
 // points with its neighbours only), dense otherwise.
+//
+// Row a is collected from the residuals and the points that involve a, each partner marked
+// once: a point of track length L offers L(L-1)/2 pairs, and on a collection that densifies
+// the sum over points of L^2 is far larger than the number of distinct blocks.
 void SchurSystem::BuildReducedStructure() {
   num_column_blocks_ = 0;
   while (num_column_blocks_ < static_cast<int>(blocks_.size()) &&
          blocks_[num_column_blocks_].column >= 0)
     ++num_column_blocks_;
-  std::vector<std::vector<int>> rows(num_column_blocks_);
-  for (int a = 0; a < num_column_blocks_; ++a) rows[a].push_back(a);
+  const auto is_column = [&](int block) { return block >= 0 && block < num_column_blocks_; };
+  // Per column block: the residuals with another column block (CSR), and the points coupled
+  // with it, by their coupling index (CSR, ascending).
+  std::vector<int> residual_begin(num_column_blocks_ + 1, 0);
+  std::vector<int> coupling_begin(num_column_blocks_ + 1, 0);
+  const auto column_blocks_of = [&](const Residual& r) {
+    int n = 0;
+    for (int i = 0; i < r.count; ++i) n += is_column(block_of_[r.begin + i]) ? 1 : 0;
+    return n;
+  };
   for (const Residual& r : residuals_)
-    for (int i = 0; i < r.count; ++i)
-      for (int j = 0; j < r.count; ++j) {
-        const int a = block_of_[r.begin + i], b = block_of_[r.begin + j];
-        if (a >= 0 && b > a && blocks_[a].column >= 0 && blocks_[b].column >= 0)
-          rows[a].push_back(b);
-      }
+    if (column_blocks_of(r) >= 2)
+      for (int i = 0; i < r.count; ++i)
+        if (is_column(block_of_[r.begin + i])) ++residual_begin[block_of_[r.begin + i] + 1];
+  for (const Coupling& c : couplings_) ++coupling_begin[c.block + 1];
+  for (int a = 0; a < num_column_blocks_; ++a) {
+    residual_begin[a + 1] += residual_begin[a];
+    coupling_begin[a + 1] += coupling_begin[a];
+  }
+  std::vector<int> residuals_of(residual_begin.back());
+  std::vector<int> couplings_of(coupling_begin.back());
+  {
+    std::vector<int> next(residual_begin.begin(), residual_begin.end() - 1);
+    for (size_t k = 0; k < residuals_.size(); ++k) {
+      const Residual& r = residuals_[k];
+      if (column_blocks_of(r) < 2) continue;
+      for (int i = 0; i < r.count; ++i)
+        if (is_column(block_of_[r.begin + i]))
+          residuals_of[next[block_of_[r.begin + i]]++] = static_cast<int>(k);
+    }
+    next.assign(coupling_begin.begin(), coupling_begin.end() - 1);
+    for (size_t i = 0; i < couplings_.size(); ++i)
+      couplings_of[next[couplings_[i].block]++] = static_cast<int>(i);
+  }
+  std::vector<int> point_of_coupling(couplings_.size());
   for (int p = 0; p < num_points_; ++p)
     for (int i = point_couplings_begin_[p]; i < point_couplings_begin_[p + 1]; ++i)
-      for (int j = i + 1; j < point_couplings_begin_[p + 1]; ++j)
-        rows[couplings_[i].block].push_back(couplings_[j].block);
+      point_of_coupling[i] = p;
+
   pair_begin_.assign(num_column_blocks_ + 1, 0);
   pair_block_.clear();
   pair_offset_.clear();
+  std::vector<int> marked_in_row(num_column_blocks_, -1);
   size_t offset = 0;
   for (int a = 0; a < num_column_blocks_; ++a) {
-    std::sort(rows[a].begin(), rows[a].end());
-    rows[a].erase(std::unique(rows[a].begin(), rows[a].end()), rows[a].end());
     pair_begin_[a] = static_cast<int>(pair_block_.size());
-    for (const int b : rows[a]) {
-      pair_block_.push_back(b);
-      pair_offset_.push_back(offset);
-      offset += static_cast<size_t>(blocks_[a].tangent) * blocks_[b].tangent;
+    const auto mark = [&](int b) {
+      if (b > a && marked_in_row[b] != a) {
+        marked_in_row[b] = a;
+        pair_block_.push_back(b);
+      }
+    };
+    pair_block_.push_back(a);
+    for (int k = residual_begin[a]; k < residual_begin[a + 1]; ++k) {
+      const Residual& r = residuals_[residuals_of[k]];
+      for (int i = 0; i < r.count; ++i)
+        if (is_column(block_of_[r.begin + i])) mark(block_of_[r.begin + i]);
     }
-    std::vector<int>().swap(rows[a]);
+    // A point's couplings are sorted by block: those after a's own are the partners b > a.
+    for (int k = coupling_begin[a]; k < coupling_begin[a + 1]; ++k) {
+      const int i = couplings_of[k];
+      const int p = point_of_coupling[i];
+      for (int j = i + 1; j < point_couplings_begin_[p + 1]; ++j) mark(couplings_[j].block);
+    }
+    std::sort(pair_block_.begin() + pair_begin_[a] + 1, pair_block_.end());
+    for (size_t k = pair_begin_[a]; k < pair_block_.size(); ++k) {
+      pair_offset_.push_back(offset);
+      offset += static_cast<size_t>(blocks_[a].tangent) * blocks_[pair_block_[k]].tangent;
+    }
   }
   pair_begin_[num_column_blocks_] = static_cast<int>(pair_block_.size());
   pair_block_.push_back(std::numeric_limits<int>::max());  // sentinel for the row walks
@@ -70,39 +116,58 @@ void SchurSystem::BuildReducedStructure() {
   if (sparse_ && !iterative_) BuildSparsePattern();
 }
 
-// The sparse matrix's pattern once (upper triangle, column-major); each block column is a
-// contiguous run of its column's non-zeros, recorded in value_starts_ for FillSparse.
+// The sparse matrix's pattern once (upper triangle, column-major, rows ascending), written
+// directly from the block structure: column c of block column b holds, for each block (a, b) in
+// ascending a, block a's rows (on the diagonal block only rows up to c). value_starts_ records
+// where each block column's run starts, for FillSparse.
 void SchurSystem::BuildSparsePattern() {
-  // The pattern once (upper triangle, column-major); each block column is a contiguous run of
-  // its column's non-zeros, recorded in value_starts_ for FillSparse.
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(s_blocks_.size());
-  for (int a = 0; a < num_column_blocks_; ++a)
-    for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
-      const Block& ba = blocks_[a];
-      const Block& bb = blocks_[pair_block_[k]];
-      for (int c = 0; c < bb.tangent; ++c)
-        for (int j = 0; j < ba.tangent && (pair_block_[k] != a || j <= c); ++j)
-          triplets.emplace_back(ba.column + j, bb.column + c, 1.0);
-    }
+  const int num_pairs = pair_begin_[num_column_blocks_];
+  // The blocks (a, b) of each block column b, by pair index, in ascending a.
+  std::vector<int> column_begin(num_column_blocks_ + 1, 0);
+  for (int k = 0; k < num_pairs; ++k) ++column_begin[pair_block_[k] + 1];
+  for (int b = 0; b < num_column_blocks_; ++b) column_begin[b + 1] += column_begin[b];
+  std::vector<int> column_pairs(num_pairs);
+  std::vector<int> row_of_pair(num_pairs);
+  {
+    std::vector<int> next(column_begin.begin(), column_begin.end() - 1);
+    for (int a = 0; a < num_column_blocks_; ++a)
+      for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
+        column_pairs[next[pair_block_[k]]++] = k;
+        row_of_pair[k] = a;
+      }
+  }
+  pair_value_begin_.resize(num_pairs);
+  int num_starts = 0;
+  for (int k = 0; k < num_pairs; ++k) {
+    pair_value_begin_[k] = num_starts;
+    num_starts += blocks_[pair_block_[k]].tangent;
+  }
+  value_starts_.assign(num_starts, 0);
+  size_t nonzeros = 0;
+  for (int b = 0; b < num_column_blocks_; ++b)
+    for (int c = 0; c < blocks_[b].tangent; ++c)
+      for (int q = column_begin[b]; q < column_begin[b + 1]; ++q) {
+        const int a = row_of_pair[column_pairs[q]];
+        nonzeros += a == b ? c + 1 : blocks_[a].tangent;
+      }
   sparse_s_.resize(num_columns_, num_columns_);
-  sparse_s_.setFromTriplets(triplets.begin(), triplets.end());
-  sparse_s_.makeCompressed();
-  pair_value_begin_.resize(pair_block_.size() - 1);
-  std::vector<int> starts;
-  for (int a = 0; a < num_column_blocks_; ++a)
-    for (int k = pair_begin_[a]; k < pair_begin_[a + 1]; ++k) {
-      const Block& bb = blocks_[pair_block_[k]];
-      pair_value_begin_[k] = static_cast<int>(starts.size());
-      for (int c = 0; c < bb.tangent; ++c) {
-        const int col = bb.column + c;
-        const int* rows_begin = sparse_s_.innerIndexPtr() + sparse_s_.outerIndexPtr()[col];
-        const int* rows_end = sparse_s_.innerIndexPtr() + sparse_s_.outerIndexPtr()[col + 1];
-        starts.push_back(static_cast<int>(
-            std::lower_bound(rows_begin, rows_end, blocks_[a].column) - sparse_s_.innerIndexPtr()));
+  sparse_s_.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  int* outer = sparse_s_.outerIndexPtr();
+  int* inner = sparse_s_.innerIndexPtr();
+  std::fill_n(sparse_s_.valuePtr(), nonzeros, 1.0);
+  int entry = 0;
+  for (int b = 0; b < num_column_blocks_; ++b)
+    for (int c = 0; c < blocks_[b].tangent; ++c) {
+      outer[blocks_[b].column + c] = entry;
+      for (int q = column_begin[b]; q < column_begin[b + 1]; ++q) {
+        const int k = column_pairs[q];
+        const Block& ba = blocks_[row_of_pair[k]];
+        value_starts_[pair_value_begin_[k] + c] = entry;
+        const int rows = row_of_pair[k] == b ? c + 1 : ba.tangent;
+        for (int j = 0; j < rows; ++j) inner[entry++] = ba.column + j;
       }
     }
-  value_starts_ = std::move(starts);
+  outer[num_columns_] = entry;
   sparse_llt_.AnalyzePattern(sparse_s_);
 }
 
