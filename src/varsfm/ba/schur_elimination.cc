@@ -49,6 +49,14 @@ inline void SubtractSchurTerm9(const double* __restrict T, const double* __restr
 }
 #pragma GCC diagnostic pop
 
+// T = W V^-1 of one coupling (column-major tangent x 3, as W).
+inline void SchurTerm(const double* __restrict W, const Eigen::Matrix3d& vi, int ta,
+                      double* __restrict T) {
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < ta; ++j)
+      T[c * ta + j] = W[j] * vi(0, c) + W[ta + j] * vi(1, c) + W[2 * ta + j] * vi(2, c);
+}
+
 }  // namespace
 
 bool SchurSystem::SolveStep(double mu, double* model_decrease, double* step_norm) {
@@ -91,8 +99,7 @@ bool SchurSystem::SolveStep(double mu, double* model_decrease, double* step_norm
   return true;
 }
 
-// Part k's points: the damped V^-1, and T = W V^-1 for each coupling (column-major
-// tangent x 3, at W's offset in t_). False when a damped V is not positive definite.
+// Part k's points: the damped V^-1. False when a damped V is not positive definite.
 VARSFM_CPU_CLONES bool SchurSystem::InvertPoints(int k, double mu) {
   for (int p = point_part_begin_[k]; p < point_part_begin_[k + 1]; ++p) {
     // The damped V = [a b c; b d e; c e f] is inverted through its adjugate, its positive
@@ -109,22 +116,17 @@ VARSFM_CPU_CLONES bool SchurSystem::InvertPoints(int k, double mu) {
     Matrix3& vi = v_inverse_[p];
     vi << c00, c01, c02, c01, a * f - c * c, c12, c02, c12, minor2;
     vi *= 1.0 / det;
-    for (int a = point_couplings_begin_[p]; a < point_couplings_begin_[p + 1]; ++a) {
-      const int ta = blocks_[couplings_[a].block].tangent;
-      const double* __restrict W = &w_[couplings_[a].offset];
-      double* __restrict T = &t_[couplings_[a].offset];
-      for (int c = 0; c < 3; ++c)
-        for (int j = 0; j < ta; ++j)
-          T[c * ta + j] = W[j] * vi(0, c) + W[ta + j] * vi(1, c) + W[2 * ta + j] * vi(2, c);
-    }
   }
   return true;
 }
 
 // Rows [row_group_begin_[k], row_group_begin_[k + 1]) of the damped reduced system and its
 // right-hand side: the undamped blocks plus mu D, minus T_a W_b^T for every point that couples
-// a and b (a <= b), in point order.
+// a and b (a <= b), in point order. Each T_a = W_a V^-1 is formed here, where it is used: every
+// coupling lies in one part's rows, so it is formed once, and no array of them (as large as W)
+// is written and read back.
 VARSFM_CPU_CLONES void SchurSystem::EliminatePoints(int k, double mu) {
+  std::vector<double> term(3 * static_cast<size_t>(max_block_size_));
   const int row_begin = row_group_begin_[k], row_end = row_group_begin_[k + 1];
   for (int a = row_begin; a < row_end; ++a) {
     const int ta = blocks_[a].tangent;
@@ -145,7 +147,8 @@ VARSFM_CPU_CLONES void SchurSystem::EliminatePoints(int k, double mu) {
       if (block_a >= row_end) break;  // couplings are in block order
       const int ta = blocks_[block_a].tangent;
       const int column = blocks_[block_a].column;
-      const double* __restrict T = &t_[couplings_[a].offset];
+      SchurTerm(&w_[couplings_[a].offset], v_inverse_[p], ta, term.data());
+      const double* __restrict T = term.data();
       for (int j = 0; j < ta; ++j)
         rhs_[column + j] += T[j] * gp[0] + T[ta + j] * gp[1] + T[2 * ta + j] * gp[2];
       // S_ab -= T_a W_b^T for a <= b. Couplings and each block row are in block order, so one

@@ -140,7 +140,6 @@ void SchurSystem::BuildCouplings() {
             pairs.begin());
   }
   w_.resize(offset);
-  t_.resize(offset);
 }
 
 // Cuts the residuals into kParts runs of whole points (each point's residuals in one part,

@@ -277,7 +277,6 @@ class SchurSystem {
   std::array<bool, kParts> part_ok_{};
   std::vector<ResidualPair> residual_pairs_;
   std::vector<size_t> compact_of_pair_;  // per block pair: its compact offset (residual pairs)
-  std::vector<double> t_;                // W V^-1 per coupling, laid out as w_
   Eigen::VectorXd rhs_;                  // the reduced system's right-hand side
   double seconds_factorise_ = 0.0;       // SolveStep's factorisations, summed
   double squared_norm_ = 0.0;
