@@ -4,9 +4,13 @@
 // the true surface that two or more views see.
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
 //                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
-//                  [--hole-edges 100,0,...]
+//                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
+//                  [--redundant-weight 0.03] [--seed 42]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
+// --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
+// --source-views, --redundant-weight: the source views (dense/source_views.h); --seed: the
+// scene's seed (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
@@ -17,6 +21,7 @@
 
 #include "varsfm/dense/densify.h"
 #include "varsfm/eval/surface_score.h"
+#include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
 #include "varsfm/synthetic/rendered_truth.h"
@@ -50,6 +55,14 @@ int main(int argc, char** argv) {
         dense.method = varsfm::DenseMethod::kPropagation;
       else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
         dense.method = varsfm::DenseMethod::kPatchMatch;
+      else if (flag == "--planar-iterations")
+        dense.mvs.planar.num_iterations = std::stoi(argv[i + 1]);
+      else if (flag == "--redundant-weight")
+        dense.mvs.sources.redundant_point_weight = std::stod(argv[i + 1]);
+      else if (flag == "--source-views")
+        dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
+      else if (flag == "--seed")
+        options.seed = std::stoull(argv[i + 1]);
       else if (flag == "--edge-factors")
         edge_factors = parse_list(argv[i + 1]);
       else if (flag == "--hole-edges")
@@ -110,8 +123,14 @@ int main(int argc, char** argv) {
     // Where completeness is lost: each face of the scene (a quad of the room or a box) scored
     // alone against the last variant's mesh.
     std::printf("\nCompleteness per face of the scene (%s):\n\n", variants.back().first.c_str());
+    // Beside it, the dense points' own completeness (a point within the tolerance of the face's
+    // sample): what the surface could have covered, so a loss is told apart as depth or surface.
+    // And both on the part three or more views see, as fusion asks (DepthFusionOptions).
+    const varsfm::PointGrid grid(cloud.points, score_options.tolerance);
+    const auto seen3 = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 3);
     std::printf(
-        "| face | centre | normal | observed area | completeness |\n|---|---|---|---|---|\n");
+        "| face | centre | normal | observed area | completeness | points' completeness | area "
+        "3+ views see | points' completeness there |\n|---|---|---|---|---|---|---|---|\n");
     for (size_t q = 0; q < scene.surface.size(); ++q) {
       const varsfm::SurfaceQuad& quad = scene.surface[q];
       const varsfm::TriangleMesh face = varsfm::SurfaceMesh({quad});
@@ -120,9 +139,22 @@ int main(int argc, char** argv) {
       const Eigen::Vector3d c = quad.origin + 0.5 * (quad.u + quad.v);
       const Eigen::Vector3d n = quad.u.cross(quad.v).normalized();
       const double spacing = score_options.sample_spacing;
-      std::printf("| %zu | (%.2f, %.2f, %.2f) | (%.2f, %.2f, %.2f) | %.2f | %.3f |\n", q, c.x(),
-                  c.y(), c.z(), n.x(), n.y(), n.z(), s.truth_samples * spacing * spacing,
-                  s.completeness);
+      size_t observed = 0, near_point = 0, observed3 = 0, near_point3 = 0;
+      for (const Eigen::Vector3d& p : varsfm::SampleSurface(face, spacing, score_options.seed)) {
+        if (!seen(p)) continue;
+        const bool three = seen3(p);
+        const auto nearest = grid.NearestWithinCell(p);
+        const bool near = nearest && (cloud.points[*nearest] - p).norm() <= score_options.tolerance;
+        observed += 1, observed3 += three, near_point += near, near_point3 += three && near;
+      }
+      const auto share = [](size_t part, size_t whole) {
+        return whole ? static_cast<double>(part) / whole : 0.0;
+      };
+      std::printf(
+          "| %zu | (%.2f, %.2f, %.2f) | (%.2f, %.2f, %.2f) | %.2f | %.3f | %.3f | %.2f | %.3f |\n",
+          q, c.x(), c.y(), c.z(), n.x(), n.y(), n.z(), s.truth_samples * spacing * spacing,
+          s.completeness, share(near_point, observed), observed3 * spacing * spacing,
+          share(near_point3, observed3));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "surface_fscore: %s\n", e.what());

@@ -108,6 +108,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "PatchMatch depth map size (longer side, px)");
   AddWithDefault(cmd, "--dense-source-views", dense->mvs.sources.num_source_views,
                  "PatchMatch source views per depth map (1 to 16)");
+  AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,
+                 "source views chosen one at a time: a sparse point two chosen sources see counts "
+                 "this much for the next (0 to 1; 1: ranked by score alone)");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,

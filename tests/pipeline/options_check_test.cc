@@ -105,6 +105,11 @@ TEST(OptionsCheck, Densify) {
        // PatchMatch's options (DenseReconstructionOptions::mvs), each algorithm's in turn.
        {"--dense-max-image-size", [](auto& o) { o.dense.mvs.max_image_size = 8; }},
        {"--dense-source-views", [](auto& o) { o.dense.mvs.sources.num_source_views = 0; }},
+       {"--dense-redundant-weight",
+        [](auto& o) { o.dense.mvs.sources.redundant_point_weight = 1.5; }},
+       {"--dense-redundant-weight",
+        [](auto& o) { o.dense.mvs.sources.redundant_point_weight = kNan; }},
+       {"source view covered_views", [](auto& o) { o.dense.mvs.sources.covered_views = 0; }},
        {"--dense-depth-range-percentile",
         [](auto& o) { o.dense.mvs.sources.depth_range_percentile = kNan; }},
        {"--dense-iterations", [](auto& o) { o.dense.mvs.patchmatch.num_iterations = -1; }},

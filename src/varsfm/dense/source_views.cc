@@ -39,39 +39,62 @@ std::vector<image_t> RegisteredViews(const Reconstruction& rec, const Point3D& p
 
 std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& rec,
                                                           const SourceViewOptions& options) {
-  struct Score {
-    double score = 0;
-    int shared = 0;
-  };
-  std::map<std::pair<image_t, image_t>, Score> scores;  // (reference, source)
   const double min_angle = options.min_angle_deg * kDegToRad;
   const double good_angle = options.good_angle_deg * kDegToRad;
-  for (const auto& [id, point] : rec.points3D()) {
-    const std::vector<image_t> views = RegisteredViews(rec, point);
-    for (image_t r : views)
-      for (image_t s : views) {
-        if (r == s) continue;
-        Score& score = scores[{r, s}];
-        ++score.shared;
+  // What one point adds to one candidate's score (Goesele et al. 2007, eq. 2).
+  struct Contribution {
+    image_t source;
+    int point;  // index among the reference's points
+    double weight;
+  };
+  std::map<image_t, std::vector<image_t>> sources;
+  for (const image_t reference : rec.RegisteredImageIds()) {
+    // The reference's points in id order, each once.
+    std::vector<point3D_t> point_ids;
+    for (const Point2D& p : rec.image(reference).points2D)
+      if (p.point3D_id != kInvalidPoint3DId && rec.ExistsPoint3D(p.point3D_id))
+        point_ids.push_back(p.point3D_id);
+    std::sort(point_ids.begin(), point_ids.end());
+    point_ids.erase(std::unique(point_ids.begin(), point_ids.end()), point_ids.end());
+    std::vector<Contribution> list;
+    std::map<image_t, int> shared;
+    for (int k = 0; k < static_cast<int>(point_ids.size()); ++k) {
+      const Point3D& point = rec.point3D(point_ids[k]);
+      for (const image_t s : RegisteredViews(rec, point)) {
+        if (s == reference) continue;
+        ++shared[s];
         const double angle =
-            TriangulationAngle(rec.image(r).Center(), rec.image(s).Center(), point.xyz);
+            TriangulationAngle(rec.image(reference).Center(), rec.image(s).Center(), point.xyz);
         if (angle < min_angle) continue;
         const double w_angle = std::pow(std::min(angle / good_angle, 1.0), 2);
-        const double ratio = Footprint(rec, r, point.xyz) / Footprint(rec, s, point.xyz);
-        score.score += w_angle * ScaleWeight(ratio);
+        const double ratio = Footprint(rec, reference, point.xyz) / Footprint(rec, s, point.xyz);
+        list.push_back({s, k, w_angle * ScaleWeight(ratio)});
       }
-  }
-  std::map<image_t, std::vector<std::pair<double, image_t>>> candidates;
-  for (const auto& [pair, score] : scores)
-    if (score.shared >= options.min_shared_points && score.score > 0)
-      candidates[pair.first].push_back({score.score, pair.second});
-  std::map<image_t, std::vector<image_t>> sources;
-  for (auto& [reference, list] : candidates) {
-    std::sort(list.begin(), list.end(), [](const auto& a, const auto& b) {
-      return a.first != b.first ? a.first > b.first : a.second < b.second;
-    });
-    const size_t n = std::min(list.size(), static_cast<size_t>(options.num_source_views));
-    for (size_t i = 0; i < n; ++i) sources[reference].push_back(list[i].second);
+    }
+    // Greedy, one source at a time: a point already seen by covered_views chosen sources counts
+    // redundant_point_weight times its weight, so that the later sources cover the parts of the
+    // reference the first ones do not see (its image's edges, surfaces seen from one side)
+    // rather than see its centre again. With weight 1 this is the ranking by Goesele's score.
+    std::vector<int> covered(point_ids.size(), 0);
+    std::vector<image_t> chosen;
+    while (static_cast<int>(chosen.size()) < options.num_source_views) {
+      std::map<image_t, double> score;
+      for (const Contribution& c : list)
+        if (shared[c.source] >= options.min_shared_points)
+          score[c.source] +=
+              c.weight *
+              (covered[c.point] < options.covered_views ? 1.0 : options.redundant_point_weight);
+      image_t best = kInvalidImageId;
+      double best_score = 0;
+      for (const auto& [source, value] : score)  // ascending ids: ties go to the lower id
+        if (value > best_score && std::find(chosen.begin(), chosen.end(), source) == chosen.end())
+          best = source, best_score = value;
+      if (best == kInvalidImageId) break;
+      chosen.push_back(best);
+      for (const Contribution& c : list)
+        if (c.source == best) ++covered[c.point];
+    }
+    if (!chosen.empty()) sources[reference] = std::move(chosen);
   }
   return sources;
 }
@@ -103,6 +126,8 @@ void SourceViewOptions::Check() const {
   CheckAtLeast("source view min_shared_points", min_shared_points, 1);
   CheckInRange("source view min_angle_deg", min_angle_deg, 0.0, 90.0);
   CheckInRange("source view good_angle_deg", good_angle_deg, 0.1, 90.0);
+  CheckAtLeast("source view covered_views", covered_views, 1);
+  CheckInRange("--dense-redundant-weight", redundant_point_weight, 0.0, 1.0);
   CheckInRange("--dense-depth-range-percentile", depth_range_percentile, 0.0, 25.0);
 }
 

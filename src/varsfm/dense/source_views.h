@@ -1,10 +1,12 @@
 #pragma once
 // The source views of each reference view for multi-view stereo, chosen from the sparse model as
 // Goesele et al. ("Multi-View Stereo for Community Photo Collections", ICCV 2007, section 4.1)
-// choose them: every 3D point both views see adds w_angle * w_scale to the pair's score, where
+// score them: every 3D point both views see adds w_angle * w_scale to the pair's score, where
 // w_angle = min(angle / good_angle, 1)^2 favours wide triangulation angles up to good_angle and
-// w_scale favours views that see the point at about the reference's resolution. And the depth
-// range PatchMatch searches, from the sparse points a view sees.
+// w_scale favours views that see the point at about the reference's resolution. They are taken
+// one at a time, each point's weight falling once enough chosen sources see it (their global
+// selection likewise discounts views redundant with those already chosen), so the sources cover
+// the reference. And the depth range PatchMatch searches, from the sparse points a view sees.
 #include <map>
 #include <vector>
 
@@ -17,6 +19,14 @@ struct SourceViewOptions {
   int min_shared_points = 15;    // fewer: not a source
   double min_angle_deg = 1.0;    // points below this angle add nothing (no depth information)
   double good_angle_deg = 10.0;  // the angle from which w_angle is 1
+  // Sources are chosen one at a time; a point that covered_views chosen sources already see adds
+  // redundant_point_weight x its weight to the next source's score (1: the plain ranking), so the
+  // later sources see what the first ones do not (PatchMatch's cost needs two sources at a pixel,
+  // PatchMatchOptions::num_best_views). Ranked by score alone, the sources of a view crowd on the
+  // side with the widest angles and leave its other side unmatched (bench/results,
+  // 2026-12-04-source-coverage.md).
+  int covered_views = 2;
+  double redundant_point_weight = 0.03;
   // PatchMatch's depth range per view (SparseDepthRange): 0 spans every sparse point it sees.
   double depth_range_percentile = 1.0;
 

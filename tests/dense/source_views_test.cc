@@ -1,0 +1,76 @@
+// Source-view selection (dense/source_views.h) on a hand-made sparse model whose tracks say
+// which image sees which part of a wall.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "varsfm/dense/source_views.h"
+
+namespace varsfm {
+namespace {
+
+constexpr int kWidth = 640, kHeight = 480;
+constexpr double kFocal = 500;
+
+// Image 1 looks at a wall at depth 10 from the origin. Images 2, 3 and 4 (x = 1.8, -1.8, 1.6:
+// about 10, 10 and 9 degrees of triangulation angle) see only its left half, 100 points; image 5
+// (x = -1.8) sees only its right half, 30 points. Every image looks along +z.
+Reconstruction HalfSeenWall() {
+  Reconstruction rec;
+  rec.AddCamera(Camera::FromFocal(kWidth, kHeight, kFocal));
+  const double xs[] = {0.0, 1.8, -1.8, 1.6, -1.8};
+  for (int i = 0; i < 5; ++i) {
+    Image image;
+    image.image_id = i + 1;
+    image.camera_id = rec.cameras().begin()->first;
+    image.cam_from_world = Rigid3d(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-xs[i], 0, 0));
+    image.registered = true;
+    rec.AddImage(image);
+  }
+  const auto add_point = [&](const Eigen::Vector3d& xyz, const std::vector<image_t>& views) {
+    std::vector<TrackElement> track;
+    for (image_t id : views) {
+      Image& image = rec.image(id);
+      track.push_back({id, static_cast<point2D_t>(image.points2D.size())});
+      image.points2D.push_back({Eigen::Vector2d(kWidth / 2.0, kHeight / 2.0)});
+    }
+    rec.AddPoint3D(xyz, track);
+  };
+  for (int i = 0; i < 100; ++i) add_point({-4.0 + 0.03 * i, 0, 10}, {1, 2, 3, 4});
+  for (int i = 0; i < 30; ++i) add_point({1.0 + 0.1 * i, 0, 10}, {1, 5});
+  return rec;
+}
+
+TEST(SelectSourceViews, RankedByScoreWhenEveryPointCountsAlike) {
+  SourceViewOptions options;
+  options.num_source_views = 3;
+  options.redundant_point_weight = 1.0;
+  // 3 sees the left half at the widest angles, then 2, then 4 (nearer to the reference); 5 sees
+  // only 30 points.
+  const auto sources = SelectSourceViews(HalfSeenWall(), options);
+  EXPECT_EQ(sources.at(1), (std::vector<image_t>{3, 2, 4}));
+}
+
+TEST(SelectSourceViews, LaterSourcesCoverWhatTheFirstOnesDoNotSee) {
+  SourceViewOptions options;
+  options.num_source_views = 3;
+  options.redundant_point_weight = 0.03;
+  // Once 3 and 2 see the left half, a third view of it adds 3 % of its score, less than the
+  // right half's 30 points: image 5, the only one to see them, comes in.
+  const auto sources = SelectSourceViews(HalfSeenWall(), options);
+  EXPECT_EQ(sources.at(1), (std::vector<image_t>{3, 2, 5}));
+  // The sources of image 5 are 1 (the only image sharing its points): no other has 15 shared.
+  EXPECT_EQ(sources.at(5), (std::vector<image_t>{1}));
+}
+
+TEST(SelectSourceViews, NoMoreSourcesThanCandidates) {
+  SourceViewOptions options;
+  options.num_source_views = 16;
+  options.redundant_point_weight = 0.03;
+  const auto sources = SelectSourceViews(HalfSeenWall(), options);
+  EXPECT_EQ(sources.at(1).size(), 4u);
+  EXPECT_EQ(sources.at(2).size(), 3u);
+}
+
+}  // namespace
+}  // namespace varsfm
