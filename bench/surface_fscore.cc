@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
         dense.mvs.sources.redundant_point_weight = std::stod(argv[i + 1]);
       else if (flag == "--source-views")
         dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
+      else if (flag == "--missing-view-penalty")
+        dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
       else if (flag == "--seed")
         options.seed = std::stoull(argv[i + 1]);
       else if (flag == "--edge-factors")

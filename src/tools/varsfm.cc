@@ -111,6 +111,10 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,
                  "source views chosen one at a time: a sparse point two chosen sources see counts "
                  "this much for the next (0 to 1; 1: ranked by score alone)");
+  AddWithDefault(cmd, "--dense-missing-view-penalty", dense->mvs.patchmatch.missing_view_penalty,
+                 "a source the pixel's point falls outside of is left out of PatchMatch's cost, "
+                 "which pays this for each of its two best views it lacks (-1 to 2; < 0: counted "
+                 "as a failed match)");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,

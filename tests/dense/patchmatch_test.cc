@@ -91,6 +91,63 @@ TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
   EXPECT_LT(Median(normal_errors), 15.0);
 }
 
+// The part of view 0 that source 1 sees and source 4 (50 deg away) does not. A source the pixel's
+// point falls outside of counted as a failed match (the cost is the mean of the two best views)
+// leaves the true plane no better than wrong planes that bring source 4 in (measured: 47 % get a
+// depth, median error 38 %, 0.9 % within 1 % of the truth); left out of the mean
+// (missing_view_penalty 0), the pixel gets its depth from source 1 alone, and right (measured:
+// 99.7 % get one, median error 0.33 %, 80 % within 1 %).
+TEST(PatchMatch, APixelOneSourceSeesGetsItsDepthWhenMissingViewsAreLeftOut) {
+  const RenderedScene scene = SmallScene();
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+  std::vector<PatchMatchView> views;
+  for (size_t i = 0; i < scene.images.size(); ++i) {
+    PatchMatchView v;
+    cv::Mat gray;
+    cv::cvtColor(scene.images[i], gray, cv::COLOR_BGR2GRAY);
+    gray.convertTo(v.gray, CV_32F, 1.0 / 255);
+    v.K = scene.cameras[i].K();
+    v.cam_from_world = scene.poses[i];
+    views.push_back(v);
+  }
+  const DepthRange range = SparseDepthRange(rec, 1);
+  PatchMatchInit init;
+  init.min_depth = static_cast<float>(range.min_depth);
+  init.max_depth = static_cast<float>(range.max_depth);
+  const auto inside = [&](int view, const Eigen::Vector3d& X) {
+    const Eigen::Vector3d p = views[view].cam_from_world * X;
+    if (p.z() <= 0) return false;
+    const Eigen::Vector3d uv = views[view].K * p / p.z();
+    return uv.x() >= 0 && uv.y() >= 0 && uv.x() < scene.cameras[view].width &&
+           uv.y() < scene.cameras[view].height;
+  };
+  // The share of those pixels whose depth lies within 1 % of the truth.
+  const auto right_share = [&](double penalty) {
+    PatchMatchOptions options;
+    options.missing_view_penalty = penalty;
+    const DepthMap map = EstimateDepthMap(views, 0, {1, 4}, init, options, 7);
+    const Eigen::Matrix3d K_inv = views[0].K.inverse();
+    const Rigid3d& pose = views[0].cam_from_world;
+    size_t pixels = 0, right = 0;
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const Eigen::Vector3d ray =
+            pose.R().transpose() * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1));
+        const double truth = NearestHit(scene.surface, pose.Center(), ray);
+        if (!std::isfinite(truth)) continue;
+        const Eigen::Vector3d X = pose.Center() + truth * ray;
+        if (!inside(1, X) || inside(4, X)) continue;
+        ++pixels;
+        const float depth = map.depth[map.Index(x, y)];
+        if (depth > 0 && std::abs(depth - truth) < 0.01 * truth) ++right;
+      }
+    EXPECT_GT(pixels, map.depth.size() / 10);  // a tenth of view 0 at least
+    return static_cast<double>(right) / std::max<size_t>(pixels, 1);
+  };
+  EXPECT_LT(right_share(-1), 0.05);
+  EXPECT_GT(right_share(0), 0.7);
+}
+
 DenseReconstructionOptions PatchMatchOptionsFor(DenseMethod method) {
   DenseReconstructionOptions options;
   options.method = method;

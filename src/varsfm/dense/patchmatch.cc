@@ -19,7 +19,8 @@
 namespace varsfm {
 namespace {
 
-constexpr float kMaxCost = 2.0f;  // 1 - NCC of anti-correlated windows; also "no view"
+constexpr float kMaxCost = 2.0f;     // 1 - NCC of anti-correlated windows; also "no view"
+constexpr float kOutOfView = -1.0f;  // ViewCost: the window's centre is not in the source
 constexpr int kMaxSources = 16;
 constexpr int kMaxSamples = 15 * 15;
 constexpr int kMinLevelSize = 32;  // px, the shorter side of the coarsest pyramid level
@@ -300,9 +301,9 @@ class DepthMapEstimator {
                  float inv_c, float px, float py) const {
     const Eigen::Matrix3f H = s.A + s.b * (m.transpose() * inv_c);
     const Eigen::Vector3f h0 = H * Eigen::Vector3f(px, py, 1.0f);
-    if (h0.z() <= 1e-6f) return kMaxCost;
+    if (h0.z() <= 1e-6f) return kOutOfView;
     const float cx = h0.x() / h0.z(), cy = h0.y() / h0.z();
-    if (cx < 0 || cy < 0 || cx >= s.width || cy >= s.height) return kMaxCost;
+    if (cx < 0 || cy < 0 || cx >= s.width || cy >= s.height) return kOutOfView;
     alignas(16) std::array<float, kMaxSamples + 3> warped;
     if (!WarpedSamples(w, s, H, h0, warped.data())) return kMaxCost;
     float sum_s = 0, sum_ss = 0, sum_rs = 0;
@@ -346,15 +347,30 @@ class DepthMapEstimator {
     const Eigen::Vector3f m = K_inv_.transpose() * h.normal;
     std::array<float, kMaxSources> costs;
     const int n = static_cast<int>(sources_.size());
+    int in_view = 0;
     for (int s = 0; s < n; ++s) {
-      costs[s] = ViewCost(w, sources_[s], m, 1.0f / c, x + 0.5f, y + 0.5f);
-      if (geometric_) costs[s] += GeometricCost(sources_[s], h.depth, x + 0.5f, y + 0.5f);
+      float view_cost = ViewCost(w, sources_[s], m, 1.0f / c, x + 0.5f, y + 0.5f);
+      if (view_cost == kOutOfView) {
+        if (options_.missing_view_penalty < 0)
+          view_cost = kMaxCost;  // counted as a failed match
+        else
+          continue;
+      }
+      if (geometric_) view_cost += GeometricCost(sources_[s], h.depth, x + 0.5f, y + 0.5f);
+      costs[in_view++] = view_cost;
     }
-    const int best = std::min(options_.num_best_views, n);
-    std::partial_sort(costs.begin(), costs.begin() + best, costs.begin() + n);
+    // Sources the pixel's point falls outside of carry no evidence: the mean is over those that
+    // see it, plus missing_view_penalty for each of the num_best_views it lacks.
+    const int wanted = std::min(options_.num_best_views, n);
+    const int best = std::min(wanted, in_view);
+    if (best == 0) return kMaxCost;
+    std::partial_sort(costs.begin(), costs.begin() + best, costs.begin() + in_view);
     float sum = 0;
     for (int i = 0; i < best; ++i) sum += costs[i];
-    const float cost = sum / static_cast<float>(best);
+    float cost = sum / static_cast<float>(best);
+    if (best < wanted)
+      cost = std::min(kMaxCost,
+                      cost + static_cast<float>(options_.missing_view_penalty) * (wanted - best));
     return planar_term_ ? cost + PlanarCost(map_.Index(x, y), h) : cost;
   }
 
@@ -666,6 +682,7 @@ void PatchMatchOptions::Check() const {
   CheckPositive("patchmatch planar_depth_sigma", planar_depth_sigma);
   CheckPositive("patchmatch planar_normal_sigma_deg", planar_normal_sigma_deg);
   CheckInRange("patchmatch num_best_views", num_best_views, 1, kMaxSources);
+  CheckInRange("--dense-missing-view-penalty", missing_view_penalty, -1.0, 2.0);
   CheckInRange("patchmatch max_cost", max_cost, 0.0, 2.0);
   CheckNonNegative("patchmatch min_ncc_variance", min_ncc_variance);
 }

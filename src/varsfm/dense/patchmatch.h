@@ -50,7 +50,14 @@ struct PatchMatchOptions {
   // Whether flat windows (min_ncc_variance) take their prior plane: a blank wall between textured
   // edges, but also the sky between a roof's spires, which other views' priors span alike.
   bool planar_fill_flat = true;
-  int num_best_views = 2;          // the cost is the mean of this many lowest per-view costs
+  int num_best_views = 2;  // the cost is the mean of this many lowest per-view costs
+  // A source the pixel's point falls outside of (or behind) is left out of that mean, which then
+  // pays this for each view it lacks; < 0: such a source counts as the worst match. 0 lets a
+  // pixel one source sees take its depth from that one, as two-view stereo does: counted as a
+  // failed match, the missing view left the true plane no better than wrong ones that bring
+  // another source in, so the edges of every view went without depth (bench/results,
+  // 2026-12-04-missing-view.md). Consistency across views still judges each depth.
+  double missing_view_penalty = 0;
   double max_cost = 0.6;           // 1 - NCC above which a pixel's depth is dropped at the end
   double min_ncc_variance = 1e-5;  // reference windows flatter than this get no depth
 
