@@ -41,10 +41,8 @@ RenderedScene SmallScene() {
   return RenderSyntheticScene(options);
 }
 
-TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
-  const RenderedScene scene = SmallScene();
-  const std::vector<SurfaceQuad>& quads = scene.surface;
-  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+// The scene's photos as PatchMatch's views: grey in [0, 1] with their true cameras.
+std::vector<PatchMatchView> PinholeViews(const RenderedScene& scene) {
   std::vector<PatchMatchView> views;
   for (size_t i = 0; i < scene.images.size(); ++i) {
     PatchMatchView v;
@@ -55,6 +53,14 @@ TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
     v.cam_from_world = scene.poses[i];
     views.push_back(v);
   }
+  return views;
+}
+
+TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
+  const RenderedScene scene = SmallScene();
+  const std::vector<SurfaceQuad>& quads = scene.surface;
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+  const std::vector<PatchMatchView> views = PinholeViews(scene);
   const uint32_t reference = 2;
   const DepthRange range = SparseDepthRange(rec, reference + 1);
   ASSERT_GT(range.max_depth, range.min_depth);
@@ -100,16 +106,7 @@ TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
 TEST(PatchMatch, APixelOneSourceSeesGetsItsDepthWhenMissingViewsAreLeftOut) {
   const RenderedScene scene = SmallScene();
   const Reconstruction rec = SparseModelFromRenderedScene(scene);
-  std::vector<PatchMatchView> views;
-  for (size_t i = 0; i < scene.images.size(); ++i) {
-    PatchMatchView v;
-    cv::Mat gray;
-    cv::cvtColor(scene.images[i], gray, cv::COLOR_BGR2GRAY);
-    gray.convertTo(v.gray, CV_32F, 1.0 / 255);
-    v.K = scene.cameras[i].K();
-    v.cam_from_world = scene.poses[i];
-    views.push_back(v);
-  }
+  const std::vector<PatchMatchView> views = PinholeViews(scene);
   const DepthRange range = SparseDepthRange(rec, 1);
   PatchMatchInit init;
   init.min_depth = static_cast<float>(range.min_depth);

@@ -2,6 +2,7 @@
 // which image sees which part of a wall.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <vector>
 
 #include "varsfm/dense/source_views.h"
@@ -41,33 +42,31 @@ Reconstruction HalfSeenWall() {
   return rec;
 }
 
-TEST(SelectSourceViews, RankedByScoreWhenEveryPointCountsAlike) {
+// The sources of every image of HalfSeenWall.
+std::map<image_t, std::vector<image_t>> Sources(int num_sources, double redundant_point_weight) {
   SourceViewOptions options;
-  options.num_source_views = 3;
-  options.redundant_point_weight = 1.0;
+  options.num_source_views = num_sources;
+  options.redundant_point_weight = redundant_point_weight;
+  return SelectSourceViews(HalfSeenWall(), options);
+}
+
+TEST(SelectSourceViews, RankedByScoreWhenEveryPointCountsAlike) {
   // 3 sees the left half at the widest angles, then 2, then 4 (nearer to the reference); 5 sees
   // only 30 points.
-  const auto sources = SelectSourceViews(HalfSeenWall(), options);
-  EXPECT_EQ(sources.at(1), (std::vector<image_t>{3, 2, 4}));
+  EXPECT_EQ(Sources(3, 1.0).at(1), (std::vector<image_t>{3, 2, 4}));
 }
 
 TEST(SelectSourceViews, LaterSourcesCoverWhatTheFirstOnesDoNotSee) {
-  SourceViewOptions options;
-  options.num_source_views = 3;
-  options.redundant_point_weight = 0.03;
   // Once 3 and 2 see the left half, a third view of it adds 3 % of its score, less than the
   // right half's 30 points: image 5, the only one to see them, comes in.
-  const auto sources = SelectSourceViews(HalfSeenWall(), options);
+  const auto sources = Sources(3, 0.03);
   EXPECT_EQ(sources.at(1), (std::vector<image_t>{3, 2, 5}));
   // The sources of image 5 are 1 (the only image sharing its points): no other has 15 shared.
   EXPECT_EQ(sources.at(5), (std::vector<image_t>{1}));
 }
 
 TEST(SelectSourceViews, NoMoreSourcesThanCandidates) {
-  SourceViewOptions options;
-  options.num_source_views = 16;
-  options.redundant_point_weight = 0.03;
-  const auto sources = SelectSourceViews(HalfSeenWall(), options);
+  const auto sources = Sources(16, 0.03);
   EXPECT_EQ(sources.at(1).size(), 4u);
   EXPECT_EQ(sources.at(2).size(), 3u);
 }
