@@ -5,12 +5,14 @@
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
 //                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
-//                  [--redundant-weight 0.03] [--seed 42]
+//                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
+//                  [--seed 42]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
-// --source-views, --redundant-weight: the source views (dense/source_views.h); --seed: the
-// scene's seed (RenderedSceneOptions).
+// --source-views, --redundant-weight: the source views (dense/source_views.h);
+// --missing-view-penalty, --max-cost: PatchMatch's (patchmatch.h); --seed: the scene's seed
+// (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
@@ -63,6 +65,8 @@ int main(int argc, char** argv) {
         dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
       else if (flag == "--missing-view-penalty")
         dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
+      else if (flag == "--max-cost")
+        dense.mvs.patchmatch.max_cost = std::stod(argv[i + 1]);
       else if (flag == "--seed")
         options.seed = std::stoull(argv[i + 1]);
       else if (flag == "--edge-factors")

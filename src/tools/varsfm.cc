@@ -115,6 +115,8 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "a source the pixel's point falls outside of is left out of PatchMatch's cost, "
                  "which pays this for each of its two best views it lacks (-1 to 2; < 0: counted "
                  "as a failed match)");
+  AddWithDefault(cmd, "--dense-max-cost", dense->mvs.patchmatch.max_cost,
+                 "PatchMatch depths of a higher cost (1 - NCC, 0 to 2) are dropped");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,

@@ -116,6 +116,7 @@ TEST(OptionsCheck, Densify) {
        {"patchmatch sigma_color", [](auto& o) { o.dense.mvs.patchmatch.sigma_color = kInf; }},
        {"--dense-missing-view-penalty",
         [](auto& o) { o.dense.mvs.patchmatch.missing_view_penalty = kNan; }},
+       {"--dense-max-cost", [](auto& o) { o.dense.mvs.patchmatch.max_cost = -0.1; }},
        {"--dense-missing-view-penalty",
         [](auto& o) { o.dense.mvs.patchmatch.missing_view_penalty = 3; }},
        {"planar prior anchor_cell", [](auto& o) { o.dense.mvs.planar.anchor_cell = 0; }},
