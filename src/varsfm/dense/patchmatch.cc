@@ -19,7 +19,7 @@
 namespace varsfm {
 namespace {
 
-constexpr float kMaxCost = 2.0f;     // 1 - NCC of anti-correlated windows; also "no view"
+constexpr float kMaxCost = 2.0f;     // 1 - NCC of anti-correlated windows; also no match
 constexpr float kOutOfView = -1.0f;  // ViewCost: the window's centre is not in the source
 constexpr int kMaxSources = 16;
 constexpr int kMaxSamples = 15 * 15;
@@ -296,7 +296,8 @@ class DepthMapEstimator {
   }
 
   // 1 - bilateral-weighted NCC of the window against its warp into source s (Schoenberger et al.
-  // 2016, eq. 9); kMaxCost when the centre falls behind the source or outside its image.
+  // 2016, eq. 9); kOutOfView when the centre falls behind the source or outside its image,
+  // kMaxCost when a window sample falls behind it or the warped window is flat.
   float ViewCost(const ReferenceWindow& w, const SourceGeometry& s, const Eigen::Vector3f& m,
                  float inv_c, float px, float py) const {
     const Eigen::Matrix3f H = s.A + s.b * (m.transpose() * inv_c);
