@@ -6,7 +6,7 @@
 //                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
-//                  [--seed 42]
+//                  [--seed 42] [--write-cloud FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
@@ -16,6 +16,7 @@
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -23,6 +24,7 @@
 
 #include "varsfm/dense/densify.h"
 #include "varsfm/eval/surface_score.h"
+#include "varsfm/io/ply.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
@@ -35,6 +37,7 @@ int main(int argc, char** argv) {
     double tolerance = 0.005;
     varsfm::DenseReconstructionOptions dense;  // PatchMatch, the default
     std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
+    std::string cloud_file;  // --write-cloud: the dense cloud as PLY, camera centres beside it
     std::vector<double> hole_edges = {
         static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
     const auto parse_list = [](const std::string& text) {
@@ -67,6 +70,8 @@ int main(int argc, char** argv) {
         dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
       else if (flag == "--max-cost")
         dense.mvs.patchmatch.max_cost = std::stod(argv[i + 1]);
+      else if (flag == "--write-cloud")
+        cloud_file = argv[i + 1];
       else if (flag == "--seed")
         options.seed = std::stoull(argv[i + 1]);
       else if (flag == "--edge-factors")
@@ -90,6 +95,12 @@ int main(int argc, char** argv) {
                 options.width, options.height,
                 std::string(varsfm::NameOf(varsfm::kDenseMethodNames, dense.method)).c_str(),
                 cloud.points.size(), timer.Seconds());
+    if (!cloud_file.empty()) {
+      varsfm::WritePly(cloud_file, cloud);
+      std::ofstream centres(cloud_file + ".cameras.txt");
+      for (size_t k = 0; k < scene.poses.size(); ++k)
+        centres << scene.poses[k].Inverse().translation.transpose() << '\n';
+    }
     const varsfm::TriangleMesh truth = varsfm::SurfaceMesh(scene.surface);
     const auto seen = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 2);
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
