@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       varsfm::WritePly(cloud_file, cloud);
       std::ofstream centres(cloud_file + ".cameras.txt");
       for (size_t k = 0; k < scene.poses.size(); ++k)
-        centres << scene.poses[k].Inverse().translation.transpose() << '\n';
+        centres << scene.poses[k].Center().transpose() << '\n';
     }
     const varsfm::TriangleMesh truth = varsfm::SurfaceMesh(scene.surface);
     const auto seen = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 2);
