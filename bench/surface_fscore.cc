@@ -6,12 +6,16 @@
 //                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
+//                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
+//                  [--two-view-cost 0.1]
 //                  [--seed 42] [--write-cloud FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
 // --source-views, --redundant-weight: the source views (dense/source_views.h);
-// --missing-view-penalty, --max-cost: PatchMatch's (patchmatch.h); --seed: the scene's seed
+// --missing-view-penalty, --max-cost, --best-views: PatchMatch's (patchmatch.h);
+// --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h); --seed: the
+// scene's seed
 // (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
@@ -31,56 +35,80 @@
 #include "varsfm/synthetic/rendered_truth.h"
 #include "varsfm/util/timer.h"
 
+namespace {
+
+// The command line: the scene, the dense and surface settings, and what to write.
+struct Arguments {
+  varsfm::RenderedSceneOptions options;  // the demo's scene: 800 x 600, zooming x1.6
+  double tolerance = 0.005;
+  varsfm::DenseReconstructionOptions dense;  // PatchMatch, the default
+  std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
+  std::string cloud_file;  // --write-cloud: the dense cloud as PLY, camera centres beside it
+  std::vector<double> hole_edges = {
+      static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
+};
+
+Arguments ParseArguments(int argc, char** argv) {
+  Arguments a;
+  auto& [options, tolerance, dense, edge_factors, cloud_file, hole_edges] = a;
+  const auto parse_list = [](const std::string& text) {
+    std::vector<double> values;
+    std::stringstream list(text);
+    for (std::string item; std::getline(list, item, ',');) values.push_back(std::stod(item));
+    return values;
+  };
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--images")
+      options.num_images = std::stoi(argv[i + 1]);
+    else if (flag == "--width")
+      options.width = std::stoi(argv[i + 1]);
+    else if (flag == "--height")
+      options.height = std::stoi(argv[i + 1]);
+    else if (flag == "--tolerance")
+      tolerance = std::stod(argv[i + 1]);
+    else if (flag == "--dense" && std::string(argv[i + 1]) == "propagation")
+      dense.method = varsfm::DenseMethod::kPropagation;
+    else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
+      dense.method = varsfm::DenseMethod::kPatchMatch;
+    else if (flag == "--planar-iterations")
+      dense.mvs.planar.num_iterations = std::stoi(argv[i + 1]);
+    else if (flag == "--redundant-weight")
+      dense.mvs.sources.redundant_point_weight = std::stod(argv[i + 1]);
+    else if (flag == "--source-views")
+      dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
+    else if (flag == "--missing-view-penalty")
+      dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
+    else if (flag == "--fusion-reprojection")
+      dense.mvs.fusion.max_reprojection_error = std::stod(argv[i + 1]);
+    else if (flag == "--fusion-depth")
+      dense.mvs.fusion.max_depth_difference = std::stod(argv[i + 1]);
+    else if (flag == "--two-view-cost")
+      dense.mvs.fusion.two_view_max_cost = std::stod(argv[i + 1]);
+    else if (flag == "--best-views")
+      dense.mvs.patchmatch.num_best_views = std::stoi(argv[i + 1]);
+    else if (flag == "--max-cost")
+      dense.mvs.patchmatch.max_cost = std::stod(argv[i + 1]);
+    else if (flag == "--write-cloud")
+      cloud_file = argv[i + 1];
+    else if (flag == "--seed")
+      options.seed = std::stoull(argv[i + 1]);
+    else if (flag == "--edge-factors")
+      edge_factors = parse_list(argv[i + 1]);
+    else if (flag == "--hole-edges")
+      hole_edges = parse_list(argv[i + 1]);
+    else
+      throw std::runtime_error("unknown option " + flag);
+  }
+  return a;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   try {
-    varsfm::RenderedSceneOptions options;  // the demo's scene: 800 x 600, zooming x1.6
-    double tolerance = 0.005;
-    varsfm::DenseReconstructionOptions dense;  // PatchMatch, the default
-    std::vector<double> edge_factors = {varsfm::DelaunaySurfaceOptions().max_edge_factor};
-    std::string cloud_file;  // --write-cloud: the dense cloud as PLY, camera centres beside it
-    std::vector<double> hole_edges = {
-        static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
-    const auto parse_list = [](const std::string& text) {
-      std::vector<double> values;
-      std::stringstream list(text);
-      for (std::string item; std::getline(list, item, ',');) values.push_back(std::stod(item));
-      return values;
-    };
-    for (int i = 1; i + 1 < argc; i += 2) {
-      const std::string flag = argv[i];
-      if (flag == "--images")
-        options.num_images = std::stoi(argv[i + 1]);
-      else if (flag == "--width")
-        options.width = std::stoi(argv[i + 1]);
-      else if (flag == "--height")
-        options.height = std::stoi(argv[i + 1]);
-      else if (flag == "--tolerance")
-        tolerance = std::stod(argv[i + 1]);
-      else if (flag == "--dense" && std::string(argv[i + 1]) == "propagation")
-        dense.method = varsfm::DenseMethod::kPropagation;
-      else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
-        dense.method = varsfm::DenseMethod::kPatchMatch;
-      else if (flag == "--planar-iterations")
-        dense.mvs.planar.num_iterations = std::stoi(argv[i + 1]);
-      else if (flag == "--redundant-weight")
-        dense.mvs.sources.redundant_point_weight = std::stod(argv[i + 1]);
-      else if (flag == "--source-views")
-        dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
-      else if (flag == "--missing-view-penalty")
-        dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
-      else if (flag == "--max-cost")
-        dense.mvs.patchmatch.max_cost = std::stod(argv[i + 1]);
-      else if (flag == "--write-cloud")
-        cloud_file = argv[i + 1];
-      else if (flag == "--seed")
-        options.seed = std::stoull(argv[i + 1]);
-      else if (flag == "--edge-factors")
-        edge_factors = parse_list(argv[i + 1]);
-      else if (flag == "--hole-edges")
-        hole_edges = parse_list(argv[i + 1]);
-      else
-        throw std::runtime_error("unknown option " + flag);
-    }
+    auto [options, tolerance, dense, edge_factors, cloud_file, hole_edges] =
+        ParseArguments(argc, argv);
     options.focal_start = 0.8 * options.width;  // the demo's field of view at any width
     const varsfm::RenderedScene scene = varsfm::RenderSyntheticScene(options);
     const varsfm::Reconstruction rec = varsfm::SparseModelFromRenderedScene(scene);

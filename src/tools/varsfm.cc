@@ -111,10 +111,14 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,
                  "source views chosen one at a time: a sparse point two chosen sources see counts "
                  "this much for the next (0 to 1; 1: ranked by score alone)");
-  AddWithDefault(cmd, "--dense-missing-view-penalty", dense->mvs.patchmatch.missing_view_penalty,
-                 "a source the pixel's point falls outside of is left out of PatchMatch's cost, "
-                 "which pays this for each of its two best views it lacks (-1 to 2; < 0: counted "
-                 "as a failed match)");
+  AddWithDefault(
+      cmd, "--dense-missing-view-penalty", dense->mvs.patchmatch.missing_view_penalty,
+      "a source the pixel's point falls outside of is left out of PatchMatch's cost, "
+      "which pays this for each of its --dense-best-views it lacks (-1 to 2; < 0: counted "
+      "as a failed match)");
+  AddWithDefault(cmd, "--dense-best-views", dense->mvs.patchmatch.num_best_views,
+                 "PatchMatch's cost is the mean of this many lowest source view costs (1 to 16; "
+                 "1: a surface one source sees hidden does not lose to wrong planes)");
   AddWithDefault(cmd, "--dense-max-cost", dense->mvs.patchmatch.max_cost,
                  "PatchMatch depths of a higher cost (1 - NCC, 0 to 2) are dropped");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,

@@ -121,6 +121,7 @@ TEST(PatchMatch, APixelOneSourceSeesGetsItsDepthWhenMissingViewsAreLeftOut) {
   // The share of those pixels whose depth lies within 1 % of the truth.
   const auto right_share = [&](double penalty) {
     PatchMatchOptions options;
+    options.num_best_views = 2;  // with one, a missing view never enters the mean
     options.missing_view_penalty = penalty;
     const DepthMap map = EstimateDepthMap(views, 0, {1, 4}, init, options, 7);
     const Eigen::Matrix3d K_inv = views[0].K.inverse();
@@ -143,6 +144,63 @@ TEST(PatchMatch, APixelOneSourceSeesGetsItsDepthWhenMissingViewsAreLeftOut) {
   };
   EXPECT_LT(right_share(-1), 0.05);
   EXPECT_GT(right_share(0), 0.7);
+}
+
+// The pixels of view 2 whose surface one source sees and a box hides from the other (both
+// frames contain the point). With the cost the mean of the two best views, the hidden source's
+// bad match at the true depth lets wrong planes that half-match both win there; with the cost the
+// best view's, the true plane takes the cost of the view that sees it. Measured: within 1 % of the
+// truth 20 % -> 65 % of those pixels; of the pixels both sources see, 91 % -> 90 %.
+TEST(PatchMatch, ASourceThatSeesAnOccluderDoesNotOutvoteTheOneThatSeesTheSurface) {
+  const RenderedScene scene = SmallScene();
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+  const std::vector<PatchMatchView> views = PinholeViews(scene);
+  const DepthRange range = SparseDepthRange(rec, 3);
+  PatchMatchInit init;
+  init.min_depth = static_cast<float>(range.min_depth);
+  init.max_depth = static_cast<float>(range.max_depth);
+  const auto in_frame = [&](int view, const Eigen::Vector3d& X) {
+    const Eigen::Vector3d p = views[view].cam_from_world * X;
+    if (p.z() <= 0) return false;
+    const Eigen::Vector3d uv = views[view].K * p / p.z();
+    return uv.x() >= 0 && uv.y() >= 0 && uv.x() < scene.cameras[view].width &&
+           uv.y() < scene.cameras[view].height;
+  };
+  const auto hidden = [&](int view, const Eigen::Vector3d& X) {
+    const Eigen::Vector3d centre = views[view].cam_from_world.Center();
+    return NearestHit(scene.surface, centre, X - centre) < 1 - 1e-6;
+  };
+  // The share of those pixels (and of all others) whose depth lies within 1 % of the truth.
+  const auto right_shares = [&](int best_views) {
+    PatchMatchOptions options;
+    options.num_best_views = best_views;
+    const DepthMap map = EstimateDepthMap(views, 2, {0, 4}, init, options, 7);
+    const Eigen::Matrix3d K_inv = views[2].K.inverse();
+    const Rigid3d& pose = views[2].cam_from_world;
+    size_t occluded = 0, occluded_right = 0, others = 0, others_right = 0;
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; ++x) {
+        const Eigen::Vector3d ray =
+            pose.R().transpose() * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1));
+        const double truth = NearestHit(scene.surface, pose.Center(), ray);
+        if (!std::isfinite(truth)) continue;
+        const Eigen::Vector3d X = pose.Center() + truth * ray;
+        if (!in_frame(0, X) || !in_frame(4, X)) continue;
+        const float depth = map.depth[map.Index(x, y)];
+        const bool right = depth > 0 && std::abs(depth - truth) < 0.01 * truth;
+        if (hidden(0, X) != hidden(4, X))
+          ++occluded, occluded_right += right;
+        else if (!hidden(0, X))
+          ++others, others_right += right;
+      }
+    EXPECT_GT(occluded, map.depth.size() / 50);
+    return std::pair(static_cast<double>(occluded_right) / std::max<size_t>(occluded, 1),
+                     static_cast<double>(others_right) / std::max<size_t>(others, 1));
+  };
+  const auto [occluded_two, others_two] = right_shares(2);
+  const auto [occluded_one, others_one] = right_shares(1);
+  EXPECT_GT(occluded_one, occluded_two + 0.3);
+  EXPECT_GT(others_one, others_two - 0.05);
 }
 
 DenseReconstructionOptions PatchMatchOptionsFor(DenseMethod method) {

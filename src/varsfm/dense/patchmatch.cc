@@ -682,7 +682,7 @@ void PatchMatchOptions::Check() const {
   CheckNonNegative("patchmatch planar_weight", planar_weight);
   CheckPositive("patchmatch planar_depth_sigma", planar_depth_sigma);
   CheckPositive("patchmatch planar_normal_sigma_deg", planar_normal_sigma_deg);
-  CheckInRange("patchmatch num_best_views", num_best_views, 1, kMaxSources);
+  CheckInRange("--dense-best-views", num_best_views, 1, kMaxSources);
   CheckInRange("--dense-missing-view-penalty", missing_view_penalty, -1.0, 2.0);
   CheckInRange("--dense-max-cost", max_cost, 0.0, 2.0);
   CheckNonNegative("patchmatch min_ncc_variance", min_ncc_variance);

@@ -50,7 +50,13 @@ struct PatchMatchOptions {
   // Whether flat windows (min_ncc_variance) take their prior plane: a blank wall between textured
   // edges, but also the sky between a roof's spires, which other views' priors span alike.
   bool planar_fill_flat = true;
-  int num_best_views = 2;  // the cost is the mean of this many lowest per-view costs
+  // The cost is the mean of this many lowest per-view costs. One: a source to which the pixel's
+  // surface is hidden behind something else matches badly at the true depth, and in a mean of
+  // two it let wrong planes that half-match both sources win over the true one that the other
+  // source sees (on the rendered scene's floor behind its boxes, half the pixels three or four
+  // views see went without a point); a depth from one source is still judged by its consistency
+  // with other views' depth maps. Held-out figures: bench/results/2026-12-04-best-view.md.
+  int num_best_views = 1;
   // A source the pixel's point falls outside of (or behind) is left out of that mean, which then
   // pays this for each view it lacks; < 0: such a source counts as the worst match. 0 lets a
   // pixel one source sees take its depth from that one, as two-view stereo does: counted as a

@@ -21,8 +21,8 @@ struct SourceViewOptions {
   double good_angle_deg = 10.0;  // the angle from which w_angle is 1
   // Sources are chosen one at a time; a point that covered_views chosen sources already see adds
   // redundant_point_weight x its weight to the next source's score (1: the plain ranking), so the
-  // later sources see what the first ones do not (PatchMatch's cost takes the best two sources
-  // that see a pixel, PatchMatchOptions::num_best_views). Ranked by score alone, a view's sources
+  // later sources see what the first ones do not (PatchMatch's cost comes from the sources that
+  // see a pixel, PatchMatchOptions::num_best_views). Ranked by score alone, a view's sources
   // crowd on the side with the widest angles and leave its other side unmatched (bench/results,
   // 2026-12-04-source-coverage.md).
   int covered_views = 2;
