@@ -56,6 +56,12 @@ TEST(SvgChart, NiceTicksCoverTheRangeAtRoundSteps) {
   EXPECT_DOUBLE_EQ(ticks[1] - ticks[0], 100.0);
 }
 
+TEST(SvgChart, StageTimesShowMillisecondsBelowATenthOfASecond) {
+  const std::string svg = StageTimesSvg({{"registration", 0.012}, {"global BA", 1.25}}, 600);
+  EXPECT_NE(svg.find("registration 12 ms"), std::string::npos);
+  EXPECT_NE(svg.find("global BA 1.2 s"), std::string::npos);
+}
+
 TEST(HtmlText, JsonCannotCloseItsScriptElement) {
   const std::string json = JsonForScript({{"name", "</script><b>"}});
   EXPECT_EQ(json.find('<'), std::string::npos);

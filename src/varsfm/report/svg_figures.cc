@@ -79,7 +79,9 @@ std::string StageTimesSvg(const std::vector<std::pair<std::string, double>>& sta
     const auto& [name, seconds] = stages[i];
     const double w = std::max(0.0, seconds) / total * width;
     const std::string color = ViridisHex(stages.size() > 1 ? i / (stages.size() - 1.0) : 0.5);
-    const std::string text = fmt::format("{} {:.1f} s", name, seconds);
+    // The map stage's phases on a small set take milliseconds, which "0.0 s" would hide.
+    const std::string text = seconds < 0.095 ? fmt::format("{} {:.0f} ms", name, 1000 * seconds)
+                                             : fmt::format("{} {:.1f} s", name, seconds);
     svg += fmt::format(
         "<rect x=\"{:.1f}\" y=\"0\" width=\"{:.1f}\" height=\"{}\" fill=\"{}\"><title>{} "
         "({:.0f} %)</title></rect>",
