@@ -3,7 +3,8 @@
 // surface method, and scored by eval/surface_score.h at a tolerance of 0.5 % of the extent of
 // the true surface that two or more views see.
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
-//                  [--dense patchmatch|propagation] [--edge-factors 8,0,...]
+//                  [--dense patchmatch|propagation|seeded|fill|seeded-fill]
+//                  [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
@@ -21,6 +22,8 @@
 #include <cstdio>
 #include <exception>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -57,48 +60,42 @@ Arguments ParseArguments(int argc, char** argv) {
     for (std::string item; std::getline(list, item, ',');) values.push_back(std::stod(item));
     return values;
   };
+  using Setter = std::function<void(const std::string&)>;
+  const auto integer = [](int* target) -> Setter {
+    return [target](const std::string& text) { *target = std::stoi(text); };
+  };
+  const auto real = [](double* target) -> Setter {
+    return [target](const std::string& text) { *target = std::stod(text); };
+  };
+  varsfm::PatchMatchOptions& patchmatch = dense.mvs.patchmatch;
+  varsfm::DepthFusionOptions& fusion = dense.mvs.fusion;
+  const std::map<std::string, Setter> setters = {
+      {"--images", integer(&options.num_images)},
+      {"--width", integer(&options.width)},
+      {"--height", integer(&options.height)},
+      {"--seed", [&](const std::string& text) { options.seed = std::stoull(text); }},
+      {"--tolerance", real(&tolerance)},
+      {"--dense",
+       [&](const std::string& text) {
+         dense.method = varsfm::ValueOf(varsfm::kDenseMethodNames, text, "--dense method");
+       }},
+      {"--planar-iterations", integer(&dense.mvs.planar.num_iterations)},
+      {"--redundant-weight", real(&dense.mvs.sources.redundant_point_weight)},
+      {"--source-views", integer(&dense.mvs.sources.num_source_views)},
+      {"--missing-view-penalty", real(&patchmatch.missing_view_penalty)},
+      {"--best-views", integer(&patchmatch.num_best_views)},
+      {"--max-cost", real(&patchmatch.max_cost)},
+      {"--fusion-reprojection", real(&fusion.max_reprojection_error)},
+      {"--fusion-depth", real(&fusion.max_depth_difference)},
+      {"--two-view-cost", real(&fusion.two_view_max_cost)},
+      {"--write-cloud", [&](const std::string& text) { cloud_file = text; }},
+      {"--edge-factors", [&](const std::string& text) { edge_factors = parse_list(text); }},
+      {"--hole-edges", [&](const std::string& text) { hole_edges = parse_list(text); }},
+  };
   for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--images")
-      options.num_images = std::stoi(argv[i + 1]);
-    else if (flag == "--width")
-      options.width = std::stoi(argv[i + 1]);
-    else if (flag == "--height")
-      options.height = std::stoi(argv[i + 1]);
-    else if (flag == "--tolerance")
-      tolerance = std::stod(argv[i + 1]);
-    else if (flag == "--dense" && std::string(argv[i + 1]) == "propagation")
-      dense.method = varsfm::DenseMethod::kPropagation;
-    else if (flag == "--dense" && std::string(argv[i + 1]) == "patchmatch")
-      dense.method = varsfm::DenseMethod::kPatchMatch;
-    else if (flag == "--planar-iterations")
-      dense.mvs.planar.num_iterations = std::stoi(argv[i + 1]);
-    else if (flag == "--redundant-weight")
-      dense.mvs.sources.redundant_point_weight = std::stod(argv[i + 1]);
-    else if (flag == "--source-views")
-      dense.mvs.sources.num_source_views = std::stoi(argv[i + 1]);
-    else if (flag == "--missing-view-penalty")
-      dense.mvs.patchmatch.missing_view_penalty = std::stod(argv[i + 1]);
-    else if (flag == "--fusion-reprojection")
-      dense.mvs.fusion.max_reprojection_error = std::stod(argv[i + 1]);
-    else if (flag == "--fusion-depth")
-      dense.mvs.fusion.max_depth_difference = std::stod(argv[i + 1]);
-    else if (flag == "--two-view-cost")
-      dense.mvs.fusion.two_view_max_cost = std::stod(argv[i + 1]);
-    else if (flag == "--best-views")
-      dense.mvs.patchmatch.num_best_views = std::stoi(argv[i + 1]);
-    else if (flag == "--max-cost")
-      dense.mvs.patchmatch.max_cost = std::stod(argv[i + 1]);
-    else if (flag == "--write-cloud")
-      cloud_file = argv[i + 1];
-    else if (flag == "--seed")
-      options.seed = std::stoull(argv[i + 1]);
-    else if (flag == "--edge-factors")
-      edge_factors = parse_list(argv[i + 1]);
-    else if (flag == "--hole-edges")
-      hole_edges = parse_list(argv[i + 1]);
-    else
-      throw std::runtime_error("unknown option " + flag);
+    const auto setter = setters.find(argv[i]);
+    if (setter == setters.end()) throw std::runtime_error(std::string("unknown option ") + argv[i]);
+    setter->second(argv[i + 1]);
   }
   return a;
 }

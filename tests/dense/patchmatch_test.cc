@@ -56,17 +56,52 @@ std::vector<PatchMatchView> PinholeViews(const RenderedScene& scene) {
   return views;
 }
 
+// PatchMatch's start for view `index` (0-based): the depth range of the sparse points it sees.
+PatchMatchInit SparseRangeInit(const Reconstruction& rec, uint32_t index) {
+  const DepthRange range = SparseDepthRange(rec, index + 1);
+  PatchMatchInit init;
+  init.min_depth = static_cast<float>(range.min_depth);
+  init.max_depth = static_cast<float>(range.max_depth);
+  return init;
+}
+
+// Whether X projects into the frame of view `index` (in front of it).
+bool InFrame(const std::vector<PatchMatchView>& views, const RenderedScene& scene, int index,
+             const Eigen::Vector3d& X) {
+  const Eigen::Vector3d p = views[index].cam_from_world * X;
+  if (p.z() <= 0) return false;
+  const Eigen::Vector3d uv = views[index].K * p / p.z();
+  return uv.x() >= 0 && uv.y() >= 0 && uv.x() < scene.cameras[index].width &&
+         uv.y() < scene.cameras[index].height;
+}
+
+// Calls visit(X, right) for every pixel of `view`'s depth map whose ray meets the scene: X the
+// true point, right whether the map's depth lies within 1 % of the true depth.
+template <typename Visit>
+void ForEachSurfacePixel(const RenderedScene& scene, const PatchMatchView& view,
+                         const DepthMap& map, Visit visit) {
+  const Eigen::Matrix3d K_inv = view.K.inverse();
+  const Rigid3d& pose = view.cam_from_world;
+  for (int y = 0; y < map.height; ++y)
+    for (int x = 0; x < map.width; ++x) {
+      const Eigen::Vector3d ray =
+          pose.R().transpose() * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1));
+      const double truth = NearestHit(scene.surface, pose.Center(), ray);
+      if (!std::isfinite(truth)) continue;
+      const float depth = map.depth[map.Index(x, y)];
+      visit(Eigen::Vector3d(pose.Center() + truth * ray),
+            depth > 0 && std::abs(depth - truth) < 0.01 * truth);
+    }
+}
+
 TEST(PatchMatch, DepthsAndNormalsMatchTheRenderedSurfaces) {
   const RenderedScene scene = SmallScene();
   const std::vector<SurfaceQuad>& quads = scene.surface;
   const Reconstruction rec = SparseModelFromRenderedScene(scene);
   const std::vector<PatchMatchView> views = PinholeViews(scene);
   const uint32_t reference = 2;
-  const DepthRange range = SparseDepthRange(rec, reference + 1);
-  ASSERT_GT(range.max_depth, range.min_depth);
-  PatchMatchInit init;
-  init.min_depth = static_cast<float>(range.min_depth);
-  init.max_depth = static_cast<float>(range.max_depth);
+  const PatchMatchInit init = SparseRangeInit(rec, reference);
+  ASSERT_GT(init.max_depth, init.min_depth);
   const DepthMap map = EstimateDepthMap(views, reference, {0, 1, 3, 4}, init, {}, 7);
 
   const Eigen::Matrix3d K_inv = views[reference].K.inverse();
@@ -107,38 +142,19 @@ TEST(PatchMatch, APixelOneSourceSeesGetsItsDepthWhenMissingViewsAreLeftOut) {
   const RenderedScene scene = SmallScene();
   const Reconstruction rec = SparseModelFromRenderedScene(scene);
   const std::vector<PatchMatchView> views = PinholeViews(scene);
-  const DepthRange range = SparseDepthRange(rec, 1);
-  PatchMatchInit init;
-  init.min_depth = static_cast<float>(range.min_depth);
-  init.max_depth = static_cast<float>(range.max_depth);
-  const auto inside = [&](int view, const Eigen::Vector3d& X) {
-    const Eigen::Vector3d p = views[view].cam_from_world * X;
-    if (p.z() <= 0) return false;
-    const Eigen::Vector3d uv = views[view].K * p / p.z();
-    return uv.x() >= 0 && uv.y() >= 0 && uv.x() < scene.cameras[view].width &&
-           uv.y() < scene.cameras[view].height;
-  };
+  const PatchMatchInit init = SparseRangeInit(rec, 0);
   // The share of those pixels whose depth lies within 1 % of the truth.
   const auto right_share = [&](double penalty) {
     PatchMatchOptions options;
     options.num_best_views = 2;  // with one, a missing view never enters the mean
     options.missing_view_penalty = penalty;
     const DepthMap map = EstimateDepthMap(views, 0, {1, 4}, init, options, 7);
-    const Eigen::Matrix3d K_inv = views[0].K.inverse();
-    const Rigid3d& pose = views[0].cam_from_world;
     size_t pixels = 0, right = 0;
-    for (int y = 0; y < map.height; ++y)
-      for (int x = 0; x < map.width; ++x) {
-        const Eigen::Vector3d ray =
-            pose.R().transpose() * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1));
-        const double truth = NearestHit(scene.surface, pose.Center(), ray);
-        if (!std::isfinite(truth)) continue;
-        const Eigen::Vector3d X = pose.Center() + truth * ray;
-        if (!inside(1, X) || inside(4, X)) continue;
-        ++pixels;
-        const float depth = map.depth[map.Index(x, y)];
-        if (depth > 0 && std::abs(depth - truth) < 0.01 * truth) ++right;
-      }
+    ForEachSurfacePixel(scene, views[0], map, [&](const Eigen::Vector3d& X, bool is_right) {
+      if (!InFrame(views, scene, 1, X) || InFrame(views, scene, 4, X)) return;
+      ++pixels;
+      right += is_right;
+    });
     EXPECT_GT(pixels, map.depth.size() / 10);  // a tenth of view 0 at least
     return static_cast<double>(right) / std::max<size_t>(pixels, 1);
   };
@@ -155,17 +171,7 @@ TEST(PatchMatch, ASourceThatSeesAnOccluderDoesNotOutvoteTheOneThatSeesTheSurface
   const RenderedScene scene = SmallScene();
   const Reconstruction rec = SparseModelFromRenderedScene(scene);
   const std::vector<PatchMatchView> views = PinholeViews(scene);
-  const DepthRange range = SparseDepthRange(rec, 3);
-  PatchMatchInit init;
-  init.min_depth = static_cast<float>(range.min_depth);
-  init.max_depth = static_cast<float>(range.max_depth);
-  const auto in_frame = [&](int view, const Eigen::Vector3d& X) {
-    const Eigen::Vector3d p = views[view].cam_from_world * X;
-    if (p.z() <= 0) return false;
-    const Eigen::Vector3d uv = views[view].K * p / p.z();
-    return uv.x() >= 0 && uv.y() >= 0 && uv.x() < scene.cameras[view].width &&
-           uv.y() < scene.cameras[view].height;
-  };
+  const PatchMatchInit init = SparseRangeInit(rec, 2);
   const auto hidden = [&](int view, const Eigen::Vector3d& X) {
     const Eigen::Vector3d centre = views[view].cam_from_world.Center();
     return NearestHit(scene.surface, centre, X - centre) < 1 - 1e-6;
@@ -175,24 +181,14 @@ TEST(PatchMatch, ASourceThatSeesAnOccluderDoesNotOutvoteTheOneThatSeesTheSurface
     PatchMatchOptions options;
     options.num_best_views = best_views;
     const DepthMap map = EstimateDepthMap(views, 2, {0, 4}, init, options, 7);
-    const Eigen::Matrix3d K_inv = views[2].K.inverse();
-    const Rigid3d& pose = views[2].cam_from_world;
     size_t occluded = 0, occluded_right = 0, others = 0, others_right = 0;
-    for (int y = 0; y < map.height; ++y)
-      for (int x = 0; x < map.width; ++x) {
-        const Eigen::Vector3d ray =
-            pose.R().transpose() * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1));
-        const double truth = NearestHit(scene.surface, pose.Center(), ray);
-        if (!std::isfinite(truth)) continue;
-        const Eigen::Vector3d X = pose.Center() + truth * ray;
-        if (!in_frame(0, X) || !in_frame(4, X)) continue;
-        const float depth = map.depth[map.Index(x, y)];
-        const bool right = depth > 0 && std::abs(depth - truth) < 0.01 * truth;
-        if (hidden(0, X) != hidden(4, X))
-          ++occluded, occluded_right += right;
-        else if (!hidden(0, X))
-          ++others, others_right += right;
-      }
+    ForEachSurfacePixel(scene, views[2], map, [&](const Eigen::Vector3d& X, bool right) {
+      if (!InFrame(views, scene, 0, X) || !InFrame(views, scene, 4, X)) return;
+      if (hidden(0, X) != hidden(4, X))
+        ++occluded, occluded_right += right;
+      else if (!hidden(0, X))
+        ++others, others_right += right;
+    });
     EXPECT_GT(occluded, map.depth.size() / 50);
     return std::pair(static_cast<double>(occluded_right) / std::max<size_t>(occluded, 1),
                      static_cast<double>(others_right) / std::max<size_t>(others, 1));
