@@ -16,8 +16,7 @@
 // --source-views, --redundant-weight: the source views (dense/source_views.h);
 // --missing-view-penalty, --max-cost, --best-views: PatchMatch's (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h); --seed: the
-// scene's seed
-// (RenderedSceneOptions).
+// scene's seed (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>

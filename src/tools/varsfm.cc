@@ -115,7 +115,7 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
       cmd, "--dense-missing-view-penalty", dense->mvs.patchmatch.missing_view_penalty,
       "a source the pixel's point falls outside of is left out of PatchMatch's cost, "
       "which pays this for each of its --dense-best-views it lacks (-1 to 2; < 0: counted "
-      "as a failed match)");
+      "as a failed match; no effect with --dense-best-views 1)");
   AddWithDefault(cmd, "--dense-best-views", dense->mvs.patchmatch.num_best_views,
                  "PatchMatch's cost is the mean of this many lowest source view costs (1 to 16; "
                  "1: a surface one source sees hidden does not lose to wrong planes)");

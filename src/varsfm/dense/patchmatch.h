@@ -62,7 +62,8 @@ struct PatchMatchOptions {
   // pixel one source sees take its depth from that one, as two-view stereo does: counted as a
   // failed match, the missing view left the true plane no better than wrong ones that bring
   // another source in, so the edges of every view went without depth (bench/results,
-  // 2026-12-04-missing-view.md). Consistency across views still judges each depth.
+  // 2026-12-04-missing-view.md). Consistency across views still judges each depth. With
+  // num_best_views 1 a pixel never lacks a view it asks for, so this then changes nothing.
   double missing_view_penalty = 0;
   double max_cost = 0.6;           // 1 - NCC above which a pixel's depth is dropped at the end
   double min_ncc_variance = 1e-5;  // reference windows flatter than this get no depth
