@@ -8,12 +8,12 @@
 
 #include <Eigen/Geometry>
 
-#include "varsfm/mesh/graph_cut.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/smoothing.h"
 #include "varsfm/mesh/tetrahedra.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/graph_cut.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"

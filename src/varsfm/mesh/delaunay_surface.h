@@ -3,7 +3,7 @@
 // reconstruction from range data", CGF 2009; Jancosek & Pajdla, "Multi-view reconstruction
 // preserving weakly-supported surfaces", CVPR 2011): the dense points are tetrahedralised
 // (Delaunay, tetrahedra.h), every tetrahedron is labelled inside or outside by an s-t minimum cut
-// (graph_cut.h), and the surface is the set of facets between inside and outside tetrahedra.
+// (util/graph_cut.h), and the surface is the set of facets between inside and outside tetrahedra.
 // The cut's weights come from the rays camera -> point of every observation: the space a ray
 // crosses before its point is free (outside), the space just behind the point is matter
 // (inside), and a surface-quality term prefers facets that lie along the sampled surface. No

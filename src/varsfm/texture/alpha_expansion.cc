@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "varsfm/mesh/graph_cut.h"
+#include "varsfm/util/graph_cut.h"
 
 namespace varsfm {
 namespace {

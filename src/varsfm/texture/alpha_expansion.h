@@ -3,7 +3,7 @@
 // approximate energy minimization via graph cuts", PAMI 2001): each move lets every node either
 // keep its label or switch to one label alpha, and the best such move is a minimum s-t cut
 // (Kolmogorov & Zabih, "What energy functions can be minimized via graph cuts?", PAMI 2004),
-// found with the Boykov-Kolmogorov max-flow of mesh/graph_cut.h. For the Potts model the result is
+// found with the Boykov-Kolmogorov max-flow of util/graph_cut.h. For the Potts model the result is
 // within a factor 2 of the global minimum; with two labels it is the global minimum.
 #include <array>
 #include <cstddef>

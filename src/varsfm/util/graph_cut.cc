@@ -1,4 +1,4 @@
-#include "varsfm/mesh/graph_cut.h"
+#include "varsfm/util/graph_cut.h"
 
 #include <algorithm>
 #include <limits>
