@@ -121,6 +121,10 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "1: a surface one source sees hidden does not lose to wrong planes)");
   AddWithDefault(cmd, "--dense-max-cost", dense->mvs.patchmatch.max_cost,
                  "PatchMatch depths of a higher cost (1 - NCC, 0 to 2) are dropped");
+  AddWithDefault(cmd, "--dense-window-radius", dense->mvs.patchmatch.window_radius,
+                 "PatchMatch's NCC window reaches this many pixels from its centre");
+  AddWithDefault(cmd, "--dense-window-step", dense->mvs.patchmatch.window_step,
+                 "PatchMatch's NCC window takes every this-many-th pixel (1 to 7)");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,
@@ -288,6 +292,13 @@ void AddMatchCommand(CLI::App* app) {
                  "RANSAC inlier threshold (px)");
   AddWithDefault(cmd, "--min-inliers", options->verification.min_num_inliers,
                  "fewer inliers: the pair is not verified");
+  AddChoice(cmd, "--ransac", &options->verification.method, ChoicesOf(varsfm::kRansacMethodNames),
+            "robust estimator of F and H: OpenCV's USAC (MSAC + graph-cut LO, or MAGSAC++), "
+            "OpenCV's classic RANSAC, or the project's LO-RANSAC or GC-RANSAC");
+  AddWithDefault(cmd, "--gc-neighbours", options->verification.mean_neighbours,
+                 "gc-ransac: mean neighbours of a match in its neighbourhood graph");
+  AddWithDefault(cmd, "--gc-coherence", options->verification.spatial_coherence,
+                 "gc-ransac: weight of equal labels among neighbours (0 to 1)");
   AddWithDefault(cmd, "--threads", options->num_threads, "worker threads (0: all cores)");
   AddWithDefault(cmd, "--commit-interval", options->commit_interval,
                  "seconds between commits: the most work a kill loses");

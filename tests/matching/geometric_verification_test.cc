@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "varsfm/util/option_check.h"
+
 namespace varsfm {
 namespace {
 
@@ -97,7 +99,8 @@ TEST_P(VerificationMethods, FindsInliersAmongHalfOutliers) {
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, VerificationMethods,
                          ::testing::Values(RansacMethod::kUsacMagsac, RansacMethod::kUsacAccurate,
-                                           RansacMethod::kRansac));
+                                           RansacMethod::kRansac, RansacMethod::kLoRansac,
+                                           RansacMethod::kGraphCut));
 
 TEST(GeometricVerification, PlanarSceneIsFlaggedPlanar) {
   const SyntheticPair pair = MakePair(150, 50, true, 8);
@@ -128,7 +131,8 @@ TEST(GeometricVerification, TooFewMatchesIsDegenerate) {
 TEST(GeometricVerification, SameSeedSameResult) {
   const SyntheticPair pair = MakePair(100, 100, false, 11);
   for (RansacMethod method :
-       {RansacMethod::kUsacMagsac, RansacMethod::kUsacAccurate, RansacMethod::kRansac}) {
+       {RansacMethod::kUsacMagsac, RansacMethod::kUsacAccurate, RansacMethod::kRansac,
+        RansacMethod::kLoRansac, RansacMethod::kGraphCut}) {
     VerificationOptions options;
     options.method = method;
     options.seed = 123;
@@ -140,6 +144,19 @@ TEST(GeometricVerification, SameSeedSameResult) {
     EXPECT_EQ(a.F, b.F);
     EXPECT_EQ(a.H, b.H);
   }
+}
+
+TEST(GeometricVerification, OptionsAreChecked) {
+  VerificationOptions options;
+  EXPECT_NO_THROW(options.Check());
+  options.mean_neighbours = 0;
+  EXPECT_THROW(options.Check(), OptionError);
+  options = {};
+  options.spatial_coherence = 1.5;
+  EXPECT_THROW(options.Check(), OptionError);
+  options = {};
+  options.max_error = -1;
+  EXPECT_THROW(options.Check(), OptionError);
 }
 
 }  // namespace

@@ -76,16 +76,18 @@ template struct TwoViewEstimator<TwoViewModel::kEssential>;
 
 RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
                                                         const std::vector<Eigen::Vector2d>& x2,
-                                                        const RansacOptions& options) {
+                                                        const RansacOptions& options,
+                                                        const NeighbourhoodGraph* neighbourhood) {
   if (x1.size() != x2.size()) return {};
-  return Ransac(FundamentalEstimator{x1, x2}, options);
+  return Ransac(FundamentalEstimator{x1, x2}, options, neighbourhood);
 }
 
 RansacReport<Eigen::Matrix3d> EstimateHomography(const std::vector<Eigen::Vector2d>& x1,
                                                  const std::vector<Eigen::Vector2d>& x2,
-                                                 const RansacOptions& options) {
+                                                 const RansacOptions& options,
+                                                 const NeighbourhoodGraph* neighbourhood) {
   if (x1.size() != x2.size()) return {};
-  return Ransac(HomographyEstimator{x1, x2}, options);
+  return Ransac(HomographyEstimator{x1, x2}, options, neighbourhood);
 }
 
 RansacReport<Eigen::Matrix3d> EstimateEssentialMatrix(const std::vector<Eigen::Vector2d>& x1,

@@ -39,13 +39,15 @@ using FundamentalEstimator = TwoViewEstimator<TwoViewModel::kFundamental>;
 using HomographyEstimator = TwoViewEstimator<TwoViewModel::kHomography>;
 using EssentialEstimator = TwoViewEstimator<TwoViewModel::kEssential>;
 
-RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(const std::vector<Eigen::Vector2d>& x1,
-                                                        const std::vector<Eigen::Vector2d>& x2,
-                                                        const RansacOptions& options);
+// `neighbourhood`: graph-cut local optimisation over it (RansacOptions::spatial_coherence).
+RansacReport<Eigen::Matrix3d> EstimateFundamentalMatrix(
+    const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
+    const RansacOptions& options, const NeighbourhoodGraph* neighbourhood = nullptr);
 
 RansacReport<Eigen::Matrix3d> EstimateHomography(const std::vector<Eigen::Vector2d>& x1,
                                                  const std::vector<Eigen::Vector2d>& x2,
-                                                 const RansacOptions& options);
+                                                 const RansacOptions& options,
+                                                 const NeighbourhoodGraph* neighbourhood = nullptr);
 
 // x1, x2 normalised image coordinates; options.max_error in normalised units.
 RansacReport<Eigen::Matrix3d> EstimateEssentialMatrix(const std::vector<Eigen::Vector2d>& x1,

@@ -4,6 +4,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "varsfm/estimators/neighbourhood_graph.h"
+#include "varsfm/estimators/two_view_estimators.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 
@@ -40,8 +42,40 @@ cv::UsacParams MakeUsacParams(const VerificationOptions& options, bool homograph
   return params;
 }
 
+// F or H by the project's RANSAC (estimators/ransac.h), with graph-cut local optimisation for
+// kGraphCut.
+RobustFit FitOwn(const std::vector<cv::Point2d>& points1, const std::vector<cv::Point2d>& points2,
+                 bool homography, const VerificationOptions& options, uint64_t seed) {
+  std::vector<Eigen::Vector2d> x1(points1.size()), x2(points2.size());
+  for (size_t i = 0; i < points1.size(); ++i) {
+    x1[i] = {points1[i].x, points1[i].y};
+    x2[i] = {points2[i].x, points2[i].y};
+  }
+  RansacOptions ransac;
+  ransac.max_error = options.max_error;
+  ransac.confidence = options.confidence;
+  ransac.max_iterations = options.max_num_trials;
+  ransac.spatial_coherence = options.spatial_coherence;
+  ransac.seed = seed;
+  NeighbourhoodGraph neighbourhood;
+  const bool graph_cut = options.method == RansacMethod::kGraphCut;
+  if (graph_cut) neighbourhood = CorrespondenceNeighbourhood(x1, x2, options.mean_neighbours);
+  const NeighbourhoodGraph* graph = graph_cut ? &neighbourhood : nullptr;
+  const RansacReport<Eigen::Matrix3d> report =
+      homography ? EstimateHomography(x1, x2, ransac, graph)
+                 : EstimateFundamentalMatrix(x1, x2, ransac, graph);
+  RobustFit fit;
+  if (!report.success) return fit;
+  fit.model = report.model;
+  fit.inlier_mask.assign(report.inlier_mask.begin(), report.inlier_mask.end());
+  fit.num_inliers = static_cast<int>(report.num_inliers);
+  return fit;
+}
+
 RobustFit Fit(const std::vector<cv::Point2d>& points1, const std::vector<cv::Point2d>& points2,
               bool homography, const VerificationOptions& options, uint64_t seed) {
+  if (options.method == RansacMethod::kLoRansac || options.method == RansacMethod::kGraphCut)
+    return FitOwn(points1, points2, homography, options, seed);
   RobustFit fit;
   cv::Mat model;
   if (options.method == RansacMethod::kRansac) {
@@ -120,6 +154,8 @@ void VerificationOptions::Check() const {
   CheckInHalfOpenRange("confidence", confidence, 0, 1);
   CheckAtLeast("max_num_trials", max_num_trials, 1);
   CheckFraction("max_H_inlier_ratio", max_H_inlier_ratio);
+  CheckPositive("--gc-neighbours", mean_neighbours);
+  CheckFraction("--gc-coherence", spatial_coherence);
 }
 
 }  // namespace varsfm

@@ -1,22 +1,34 @@
 #pragma once
 // Geometric verification of an image pair's putative matches, as COLMAP's uncalibrated
 // two-view estimation does it: a fundamental matrix and a homography by RANSAC, then the pair's
-// configuration from their inlier counts. For now the robust estimators are OpenCV's; the
-// project's own (src/varsfm/estimators) replace them later.
+// configuration from their inlier counts. By default the robust estimator is OpenCV's USAC; the
+// project's own (estimators/ransac.h, with or without graph-cut local optimisation) can stand in
+// (RansacMethod): on the planar facade of entry-P10 they keep more wrong matches than USAC
+// (bench/results/2026-12-04-gc-ransac.md), so they are not the default yet.
 #include <cstdint>
 
 #include "varsfm/feature/two_view_geometry.h"
 #include "varsfm/feature/types.h"
+#include "varsfm/util/enum_names.h"
 #include "varsfm/util/random.h"
 
 namespace varsfm {
 
-// Which OpenCV robust estimator finds F and H.
+// Which robust estimator finds F and H.
 enum class RansacMethod {
   kUsacMagsac,    // cv::USAC_MAGSAC: MAGSAC++ score, sigma-consensus local optimisation
   kUsacAccurate,  // cv::USAC_ACCURATE: MSAC score, graph-cut local optimisation
   kRansac,        // classic cv::FM_RANSAC / cv::RANSAC (OpenCV's thread-local RNG, re-seeded)
+  kLoRansac,      // the project's LO-RANSAC (estimators/ransac.h), iterated least squares
+  kGraphCut,      // the project's RANSAC with graph-cut local optimisation (GC-RANSAC)
 };
+
+inline constexpr EnumName<RansacMethod> kRansacMethodNames[] = {
+    {RansacMethod::kUsacAccurate, "usac-accurate"},
+    {RansacMethod::kUsacMagsac, "usac-magsac"},
+    {RansacMethod::kRansac, "opencv-ransac"},
+    {RansacMethod::kLoRansac, "lo-ransac"},
+    {RansacMethod::kGraphCut, "gc-ransac"}};
 
 struct VerificationOptions {
   RansacMethod method = RansacMethod::kUsacAccurate;
@@ -28,6 +40,10 @@ struct VerificationOptions {
   // A pair whose H explains more than this fraction of F's inliers is planar or a pure rotation
   // (COLMAP's max_H_inlier_ratio): F is unreliable there for self-calibration.
   double max_H_inlier_ratio = 0.8;
+  // kGraphCut: the neighbourhood's size (estimators/neighbourhood_graph.h) and the weight of
+  // equal labels among neighbours (RansacOptions::spatial_coherence).
+  double mean_neighbours = 6.0;
+  double spatial_coherence = 0.2;
   uint64_t seed = kDefaultSeed;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value

@@ -113,6 +113,10 @@ std::string MatchSettings(const MatchOptions& options) {
   settings["confidence"] = verification.confidence;
   settings["max_num_trials"] = verification.max_num_trials;
   settings["max_H_inlier_ratio"] = verification.max_H_inlier_ratio;
+  if (verification.method == RansacMethod::kGraphCut) {  // only then: older records stay valid
+    settings["mean_neighbours"] = verification.mean_neighbours;
+    settings["spatial_coherence"] = verification.spatial_coherence;
+  }
   settings["seed"] = options.seed;  // verification.seed is derived from it per pair
   return settings.dump();
 }
