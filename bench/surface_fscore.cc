@@ -8,13 +8,14 @@
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
-//                  [--two-view-cost 0.1]
+//                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
 //                  [--seed 42] [--write-cloud FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
 // --source-views, --redundant-weight: the source views (dense/source_views.h);
-// --missing-view-penalty, --max-cost, --best-views: PatchMatch's (patchmatch.h);
+// --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
+// (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h); --seed: the
 // scene's seed (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
@@ -84,6 +85,8 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--missing-view-penalty", real(&patchmatch.missing_view_penalty)},
       {"--best-views", integer(&patchmatch.num_best_views)},
       {"--max-cost", real(&patchmatch.max_cost)},
+      {"--window-radius", integer(&patchmatch.window_radius)},
+      {"--window-step", integer(&patchmatch.window_step)},
       {"--fusion-reprojection", real(&fusion.max_reprojection_error)},
       {"--fusion-depth", real(&fusion.max_depth_difference)},
       {"--two-view-cost", real(&fusion.two_view_max_cost)},
