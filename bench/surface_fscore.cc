@@ -87,6 +87,7 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--max-cost", real(&patchmatch.max_cost)},
       {"--window-radius", integer(&patchmatch.window_radius)},
       {"--window-step", integer(&patchmatch.window_step)},
+      {"--sigma-color", real(&patchmatch.sigma_color)},
       {"--fusion-reprojection", real(&fusion.max_reprojection_error)},
       {"--fusion-depth", real(&fusion.max_depth_difference)},
       {"--two-view-cost", real(&fusion.two_view_max_cost)},

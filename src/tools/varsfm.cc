@@ -125,6 +125,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "PatchMatch's NCC window reaches this many pixels from its centre");
   AddWithDefault(cmd, "--dense-window-step", dense->mvs.patchmatch.window_step,
                  "PatchMatch's NCC window takes every this-many-th pixel (1 to 7)");
+  AddWithDefault(cmd, "--dense-sigma-color", dense->mvs.patchmatch.sigma_color,
+                 "PatchMatch's bilateral NCC weights: intensity difference (0 to 1) of half weight "
+                 "at about 1.2 x this");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,

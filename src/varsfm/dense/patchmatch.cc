@@ -672,7 +672,7 @@ DepthMap RefineDepthMap(const std::vector<PatchMatchView>& views, uint32_t refer
 void PatchMatchOptions::Check() const {
   CheckInRange("--dense-window-step", window_step, 1, 7);
   CheckInRange("--dense-window-radius", window_radius, window_step, 7 * window_step);
-  CheckPositive("patchmatch sigma_color", sigma_color);
+  CheckPositive("--dense-sigma-color", sigma_color);
   CheckPositive("patchmatch sigma_spatial", sigma_spatial);
   CheckInRange("--dense-iterations", num_iterations, 0, 50);
   CheckInRange("--dense-levels", num_levels, 1, 4);

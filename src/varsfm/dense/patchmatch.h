@@ -25,8 +25,11 @@ struct PatchMatchOptions {
   int window_step = 2;
   // Bilateral weights exp(-dI^2 / 2 sigma_color^2 - dx^2 / 2 sigma_spatial^2) (Yoon & Kweon
   // 2006), intensities in [0, 1]: pixels of the window unlike the centre count less, so windows
-  // across depth edges are matched by their centre's side.
-  double sigma_color = 0.2;
+  // across depth edges are matched by their centre's side. 0.1 rather than COLMAP's 0.2: with
+  // 0.2 a roof's dark pixels, weighted 0.04 each, still outweigh the sky's noise in the centre
+  // pixel's window, so sky beside a roofline matched at the roof's depth (a halo); 0.1 weights
+  // them 4e-6 (bench/results/2026-12-04-sigma-color.md).
+  double sigma_color = 0.1;
   double sigma_spatial = 3.0;
   int num_iterations = 4;  // red + black sweeps, at each level
   // Coarse to fine: 2 or more estimates the map first at half the size (recursively) and starts
