@@ -10,16 +10,6 @@
 namespace varsfm {
 namespace {
 
-SyntheticOptions ZoomBox() {
-  SyntheticOptions o;
-  o.num_images = 3;
-  o.num_points = 2000;
-  o.focal_start = 800;
-  o.focal_end = 2000;
-  o.principal_point_offset = 25;
-  return o;
-}
-
 double MaxSampson(const Eigen::Matrix3d& F, const testing::Matches& m) {
   double worst = 0;
   for (size_t i = 0; i < m.x1.size(); ++i)
@@ -28,7 +18,7 @@ double MaxSampson(const Eigen::Matrix3d& F, const testing::Matches& m) {
 }
 
 TEST(Fundamental7pt, OneSolutionIsExact) {
-  const SyntheticScene scene = GenerateSyntheticScene(ZoomBox());
+  const SyntheticScene scene = GenerateSyntheticScene(testing::ZoomBox());
   const testing::Matches m = testing::PairMatches(scene, 0, 2);
   for (int start = 0; start + 7 <= 70; start += 7) {
     const std::vector<Eigen::Vector2d> y1(m.x1.begin() + start, m.x1.begin() + start + 7);
@@ -42,7 +32,7 @@ TEST(Fundamental7pt, OneSolutionIsExact) {
 }
 
 TEST(Fundamental8pt, ExactWithoutNoise) {
-  const SyntheticScene scene = GenerateSyntheticScene(ZoomBox());
+  const SyntheticScene scene = GenerateSyntheticScene(testing::ZoomBox());
   const testing::Matches m = testing::PairMatches(scene, 0, 1);
   for (const size_t n : {size_t{8}, size_t{50}, m.x1.size()}) {
     const std::vector<Eigen::Vector2d> y1(m.x1.begin(), m.x1.begin() + n);
@@ -55,7 +45,7 @@ TEST(Fundamental8pt, ExactWithoutNoise) {
 }
 
 TEST(EstimateFundamentalMatrix, FindsModelWithHalfOutliers) {
-  SyntheticOptions o = ZoomBox();
+  SyntheticOptions o = testing::ZoomBox();
   o.noise_sigma = 0.5;
   o.outlier_ratio = 0.3;  // per observation: ~51 % of the matches have an outlier end
   const SyntheticScene scene = GenerateSyntheticScene(o);
@@ -76,7 +66,7 @@ TEST(EstimateFundamentalMatrix, FindsModelWithHalfOutliers) {
 }
 
 TEST(RefineFundamentalMatrix, LowersSampsonCostAndStaysRank2) {
-  SyntheticOptions o = ZoomBox();
+  SyntheticOptions o = testing::ZoomBox();
   o.noise_sigma = 1.0;
   const SyntheticScene scene = GenerateSyntheticScene(o);
   testing::Matches m = testing::PairMatches(scene, 0, 2);

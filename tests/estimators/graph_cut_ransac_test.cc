@@ -111,12 +111,7 @@ TEST(GraphCutInliers, IsTheLeastEnergyLabelling) {
 }
 
 TEST(GraphCutRansac, FindsTheFundamentalMatrixAmongHalfOutliers) {
-  SyntheticOptions o;
-  o.num_images = 3;
-  o.num_points = 2000;
-  o.focal_start = 800;
-  o.focal_end = 2000;
-  o.principal_point_offset = 25;
+  SyntheticOptions o = testing::ZoomBox();
   o.noise_sigma = 0.5;
   o.outlier_ratio = 0.3;
   const SyntheticScene scene = GenerateSyntheticScene(o);

@@ -8,6 +8,18 @@
 
 namespace varsfm::testing {
 
+// Three views of a box of 2000 points, zooming from f = 800 to 2000 px, principal points off
+// centre by up to 25 px.
+inline SyntheticOptions ZoomBox() {
+  SyntheticOptions o;
+  o.num_images = 3;
+  o.num_points = 2000;
+  o.focal_start = 800;
+  o.focal_end = 2000;
+  o.principal_point_offset = 25;
+  return o;
+}
+
 struct Matches {
   std::vector<Eigen::Vector2d> x1, x2;
   std::vector<char> outlier;  // ground-truth outlier flag (either observation is an outlier)
