@@ -128,6 +128,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-sigma-color", dense->mvs.patchmatch.sigma_color,
                  "PatchMatch's bilateral NCC weights: intensity difference (0 to 1) of half weight "
                  "at about 1.2 x this");
+  AddWithDefault(cmd, "--dense-sigma-spatial", dense->mvs.patchmatch.sigma_spatial,
+                 "PatchMatch's bilateral NCC weights: pixel distance from the window's centre of "
+                 "about 1.2 x this has half weight");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,

@@ -114,6 +114,7 @@ TEST(OptionsCheck, Densify) {
         [](auto& o) { o.dense.mvs.sources.depth_range_percentile = kNan; }},
        {"--dense-iterations", [](auto& o) { o.dense.mvs.patchmatch.num_iterations = -1; }},
        {"--dense-sigma-color", [](auto& o) { o.dense.mvs.patchmatch.sigma_color = kInf; }},
+       {"--dense-sigma-spatial", [](auto& o) { o.dense.mvs.patchmatch.sigma_spatial = 0; }},
        {"--dense-window-step", [](auto& o) { o.dense.mvs.patchmatch.window_step = 8; }},
        {"--dense-window-radius", [](auto& o) { o.dense.mvs.patchmatch.window_radius = 1; }},
        {"--dense-missing-view-penalty",

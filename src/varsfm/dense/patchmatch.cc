@@ -673,7 +673,7 @@ void PatchMatchOptions::Check() const {
   CheckInRange("--dense-window-step", window_step, 1, 7);
   CheckInRange("--dense-window-radius", window_radius, window_step, 7 * window_step);
   CheckPositive("--dense-sigma-color", sigma_color);
-  CheckPositive("patchmatch sigma_spatial", sigma_spatial);
+  CheckPositive("--dense-sigma-spatial", sigma_spatial);
   CheckInRange("--dense-iterations", num_iterations, 0, 50);
   CheckInRange("--dense-levels", num_levels, 1, 4);
   CheckInRange("--dense-geometric-iterations", num_geometric_iterations, 0, 50);
