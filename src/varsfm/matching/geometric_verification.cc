@@ -42,28 +42,33 @@ cv::UsacParams MakeUsacParams(const VerificationOptions& options, bool homograph
   return params;
 }
 
+// A pair's matched keypoints in the form its estimator reads: OpenCV's points, or the project's
+// with, for graph-cut RANSAC, the neighbourhood it smooths over (built once for F and H).
+struct MatchedPoints {
+  std::vector<cv::Point2d> cv1, cv2;
+  std::vector<Eigen::Vector2d> x1, x2;
+  NeighbourhoodGraph neighbourhood;
+};
+
+bool UsesOwnRansac(RansacMethod method) {
+  return method == RansacMethod::kLoRansac || method == RansacMethod::kGraphCut;
+}
+
 // F or H by the project's RANSAC (estimators/ransac.h), with graph-cut local optimisation for
 // kGraphCut.
-RobustFit FitOwn(const std::vector<cv::Point2d>& points1, const std::vector<cv::Point2d>& points2,
-                 bool homography, const VerificationOptions& options, uint64_t seed) {
-  std::vector<Eigen::Vector2d> x1(points1.size()), x2(points2.size());
-  for (size_t i = 0; i < points1.size(); ++i) {
-    x1[i] = {points1[i].x, points1[i].y};
-    x2[i] = {points2[i].x, points2[i].y};
-  }
+RobustFit FitOwn(const MatchedPoints& points, bool homography, const VerificationOptions& options,
+                 uint64_t seed) {
   RansacOptions ransac;
   ransac.max_error = options.max_error;
   ransac.confidence = options.confidence;
   ransac.max_iterations = options.max_num_trials;
   ransac.spatial_coherence = options.spatial_coherence;
   ransac.seed = seed;
-  NeighbourhoodGraph neighbourhood;
-  const bool graph_cut = options.method == RansacMethod::kGraphCut;
-  if (graph_cut) neighbourhood = CorrespondenceNeighbourhood(x1, x2, options.mean_neighbours);
-  const NeighbourhoodGraph* graph = graph_cut ? &neighbourhood : nullptr;
+  const NeighbourhoodGraph* graph =
+      options.method == RansacMethod::kGraphCut ? &points.neighbourhood : nullptr;
   const RansacReport<Eigen::Matrix3d> report =
-      homography ? EstimateHomography(x1, x2, ransac, graph)
-                 : EstimateFundamentalMatrix(x1, x2, ransac, graph);
+      homography ? EstimateHomography(points.x1, points.x2, ransac, graph)
+                 : EstimateFundamentalMatrix(points.x1, points.x2, ransac, graph);
   RobustFit fit;
   if (!report.success) return fit;
   fit.model = report.model;
@@ -72,10 +77,11 @@ RobustFit FitOwn(const std::vector<cv::Point2d>& points1, const std::vector<cv::
   return fit;
 }
 
-RobustFit Fit(const std::vector<cv::Point2d>& points1, const std::vector<cv::Point2d>& points2,
-              bool homography, const VerificationOptions& options, uint64_t seed) {
-  if (options.method == RansacMethod::kLoRansac || options.method == RansacMethod::kGraphCut)
-    return FitOwn(points1, points2, homography, options, seed);
+RobustFit Fit(const MatchedPoints& points, bool homography, const VerificationOptions& options,
+              uint64_t seed) {
+  if (UsesOwnRansac(options.method)) return FitOwn(points, homography, options, seed);
+  const std::vector<cv::Point2d>& points1 = points.cv1;
+  const std::vector<cv::Point2d>& points2 = points.cv2;
   RobustFit fit;
   cv::Mat model;
   if (options.method == RansacMethod::kRansac) {
@@ -117,9 +123,8 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
   if (matches.size() < static_cast<size_t>(std::max(options.min_num_inliers, 8))) {
     return geometry;
   }
-  std::vector<cv::Point2d> points1, points2;
-  points1.reserve(matches.size());
-  points2.reserve(matches.size());
+  MatchedPoints points;
+  const bool own = UsesOwnRansac(options.method);
   for (const FeatureMatch& m : matches) {
     if (m.point2D_idx1 >= keypoints1.size() || m.point2D_idx2 >= keypoints2.size()) {
       Fail("match ({}, {}) refers to a missing keypoint ({} and {} keypoints)", m.point2D_idx1,
@@ -127,13 +132,21 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
     }
     const FeatureKeypoint& k1 = keypoints1[m.point2D_idx1];
     const FeatureKeypoint& k2 = keypoints2[m.point2D_idx2];
-    points1.emplace_back(k1.x, k1.y);
-    points2.emplace_back(k2.x, k2.y);
+    if (own) {
+      points.x1.emplace_back(k1.x, k1.y);
+      points.x2.emplace_back(k2.x, k2.y);
+    } else {
+      points.cv1.emplace_back(k1.x, k1.y);
+      points.cv2.emplace_back(k2.x, k2.y);
+    }
   }
+  if (options.method == RansacMethod::kGraphCut)
+    points.neighbourhood =
+        CorrespondenceNeighbourhood(points.x1, points.x2, options.mean_neighbours);
   // Different streams for F and H, both fixed by the caller's seed.
-  const RobustFit f = Fit(points1, points2, false, options, DeriveSeed(options.seed, 0));
+  const RobustFit f = Fit(points, false, options, DeriveSeed(options.seed, 0));
   if (f.num_inliers < options.min_num_inliers) return geometry;
-  const RobustFit h = Fit(points1, points2, true, options, DeriveSeed(options.seed, 1));
+  const RobustFit h = Fit(points, true, options, DeriveSeed(options.seed, 1));
 
   geometry.F = f.model;
   geometry.H = h.model;
