@@ -305,6 +305,8 @@ void AddMatchCommand(CLI::App* app) {
                  "gc-ransac: mean neighbours of a match in its neighbourhood graph");
   AddWithDefault(cmd, "--gc-coherence", options->verification.spatial_coherence,
                  "gc-ransac: weight of equal labels among neighbours (0 to 1)");
+  cmd->add_flag("!--no-degensac", options->verification.degeneracy_recovery,
+                "lo-ransac, gc-ransac: no DEGENSAC (plane-and-parallax recovery of F)");
   AddWithDefault(cmd, "--threads", options->num_threads, "worker threads (0: all cores)");
   AddWithDefault(cmd, "--commit-interval", options->commit_interval,
                  "seconds between commits: the most work a kill loses");

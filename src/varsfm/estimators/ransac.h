@@ -15,6 +15,10 @@
 //                        std::vector<Model>* models) const;
 //   // Squared residual of datum i (in the units of max_error, squared).
 //   double SquaredResidual(const Model& model, size_t i) const;
+//   // Optional (RansacOptions::degeneracy_recovery): models to try when `model`, a new best,
+//   // came from a degenerate minimal `sample`.
+//   void DegeneracyModels(const std::vector<int>& sample, const Model& model,
+//                         const RansacOptions& options, Rng* rng, std::vector<Model>*) const;
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -52,6 +56,19 @@ struct RansacOptions {
   int lo_sample_factor = 7;
   int lo_iterations = 20;
   int max_graph_cuts = 10;
+  // Estimators that offer it test each new best model of a minimal sample for a degenerate
+  // sample and try the models that recover from it: the fundamental matrix's DEGENSAC
+  // (fundamental_degeneracy.h; two_view_estimators.h). Off by default, where an F is estimated
+  // the models stay as they were.
+  bool degeneracy_recovery = false;
+  // The recovery's own sampling (DEGENSAC: pairs of correspondences off the plane) runs an
+  // adaptive number of trials for `confidence`, between these bounds.
+  int degeneracy_min_trials = 100;
+  int degeneracy_max_trials = 1000;
+  // After the sampling, the best model is tested on up to this many minimal samples of its own
+  // inliers (it may have become degenerate in its local optimisation); the first that finds it
+  // degenerate runs the recovery.
+  int degeneracy_final_samples = 10;
 };
 
 template <typename Model>
@@ -143,6 +160,29 @@ void GraphCutInliers(const Estimator& estimator, const typename Estimator::Model
     if (source_side[i]) inliers->push_back(static_cast<int>(i));
 }
 
+// Fills `sample` with distinct indices from `pick`, by rejection (the sample is much smaller
+// than the data).
+inline void DrawSample(std::uniform_int_distribution<size_t>& pick, Rng* rng,
+                       std::vector<int>* sample) {
+  for (size_t k = 0; k < sample->size(); ++k) {
+    int index;
+    do {
+      index = static_cast<int>(pick(*rng));
+    } while (std::find(sample->begin(), sample->begin() + static_cast<long>(k), index) !=
+             sample->begin() + static_cast<long>(k));
+    (*sample)[k] = index;
+  }
+}
+
+// Moves `count` distinct members, drawn uniformly, to the front of `items` (a partial
+// Fisher-Yates shuffle); count <= items->size().
+inline void ShuffleFront(size_t count, std::vector<int>* items, Rng* rng) {
+  for (size_t k = 0; k < count; ++k) {
+    std::uniform_int_distribution<size_t> rest(k, items->size() - 1);
+    std::swap((*items)[k], (*items)[rest(*rng)]);
+  }
+}
+
 // Number of iterations for `confidence` of drawing one all-inlier sample (Fischler & Bolles):
 // N = log(1 - p) / log(1 - w^s).
 inline int RequiredIterations(size_t num_inliers, size_t num_data, int sample_size,
@@ -221,11 +261,8 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
       for (int trial = 0; trial < (all ? 1 : options.lo_iterations); ++trial) {
         if (all) {
           subset = inliers;
-        } else {  // a partial Fisher-Yates shuffle draws distinct members
-          for (size_t k = 0; k < subset_size; ++k) {
-            std::uniform_int_distribution<size_t> rest(k, inliers.size() - 1);
-            std::swap(inliers[k], inliers[rest(rng)]);
-          }
+        } else {
+          ransac_internal::ShuffleFront(subset_size, &inliers, &rng);
           subset.assign(inliers.begin(), inliers.begin() + static_cast<long>(subset_size));
         }
         models.clear();
@@ -236,23 +273,30 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
     }
   };
 
+  // Recovery from a degenerate sample (RansacOptions::degeneracy_recovery) of best_model, new
+  // from `sample`: whether the estimator found it degenerate; `improved`, whether a recovered
+  // model scored better.
+  constexpr bool kRecovers = requires(const Estimator& e, std::vector<Model>* out, Rng* r) {
+    e.DegeneracyModels(sample, best_model, options, r, out);
+  };
+  const auto recover = [&](bool* improved) {
+    models.clear();
+    if constexpr (kRecovers) estimator.DegeneracyModels(sample, best_model, options, &rng, &models);
+    for (const Model& model : models) *improved |= consider(model);
+    return !models.empty();
+  };
+
   int required = options.max_iterations;
   int iteration = 0;
   for (; iteration < std::min(required, options.max_iterations); ++iteration) {
-    // A sample of distinct indices by rejection (kSample << n).
-    for (int k = 0; k < kSample; ++k) {
-      size_t index;
-      do {
-        index = pick(rng);
-      } while (std::find(sample.begin(), sample.begin() + k, static_cast<int>(index)) !=
-               sample.begin() + k);
-      sample[k] = static_cast<int>(index);
-    }
+    ransac_internal::DrawSample(pick, &rng, &sample);
     models.clear();
     estimator.MinimalSolve(sample, &models);
     bool improved = false;
     for (const Model& model : models) improved |= consider(model);
     if (!improved) continue;
+    bool recovered_better = false;
+    if (kRecovers && options.degeneracy_recovery) recover(&recovered_better);
     if (options.local_optimization) neighbourhood ? graph_cut_optimize() : local_optimize();
     required = ransac_internal::RequiredIterations(best.num_inliers, n, kSample, options.confidence,
                                                    options.min_iterations, options.max_iterations);
@@ -261,6 +305,23 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
   if (best.num_inliers < static_cast<size_t>(kSample)) {
     report.iterations = iteration;
     return report;
+  }
+  // The best model may have become degenerate in its local optimisation rather than from a
+  // degenerate sample (least squares on inliers mostly from one plane): it is tested once more
+  // on minimal samples of its own inliers.
+  if (kRecovers && options.degeneracy_recovery) {
+    ransac_internal::Inliers(estimator, best_model, threshold2, &inliers);
+    for (int trial = 0;
+         trial < options.degeneracy_final_samples && inliers.size() > static_cast<size_t>(kSample);
+         ++trial) {
+      ransac_internal::ShuffleFront(kSample, &inliers, &rng);
+      sample.assign(inliers.begin(), inliers.begin() + kSample);
+      bool improved = false;
+      if (!recover(&improved)) continue;
+      if (improved && options.local_optimization)
+        neighbourhood ? graph_cut_optimize() : local_optimize();
+      break;
+    }
   }
   // Final refit on all inliers of the best model, kept only if it scores at least as well.
   ransac_internal::Inliers(estimator, best_model, threshold2, &inliers);

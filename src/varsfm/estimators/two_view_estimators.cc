@@ -1,12 +1,16 @@
 #include "varsfm/estimators/two_view_estimators.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
+#include <random>
 
 #include <Eigen/Geometry>
 
 #include "varsfm/estimators/essential_5pt.h"
 #include "varsfm/estimators/fundamental_7pt.h"
 #include "varsfm/estimators/fundamental_8pt.h"
+#include "varsfm/estimators/fundamental_degeneracy.h"
 #include "varsfm/estimators/homography_4pt.h"
 #include "varsfm/geometry/essential.h"
 #include "varsfm/geometry/fundamental.h"
@@ -68,6 +72,78 @@ double TwoViewEstimator<kModel>::SquaredResidual(const Model& model, size_t i) c
   } else {
     return SampsonErrorSquared(model, x1[i], x2[i]);
   }
+}
+
+template <TwoViewModel kModel>
+void TwoViewEstimator<kModel>::DegeneracyModels(const std::vector<int>& sample, const Model& model,
+                                                const RansacOptions& options, Rng* rng,
+                                                std::vector<Model>* models) const
+    requires(kModel == TwoViewModel::kFundamental) {
+  const double threshold2 = options.max_error * options.max_error;
+  std::vector<Eigen::Vector2d> y1, y2;
+  Gather(x1, x2, sample, &y1, &y2);
+  Eigen::Matrix3d H;
+  // The test's homography comes exact through three noisy points and carries the sample's other
+  // plane points less well than one fitted to many: tested at twice the threshold (a false
+  // alarm costs only the recovery's time; its models must still score better).
+  if (!FindDominantPlane(model, y1, y2, 4 * threshold2, &H)) return;
+  // The plane's homography from three correspondences carries their noise: refitted by least
+  // squares on the data it carries, from twice the threshold down to it (as the local
+  // optimisation of Lebeda et al. does), kept while it carries more.
+  const HomographyEstimator plane{x1, x2};
+  std::vector<int> on_plane;
+  ransac_internal::Inliers(plane, H, threshold2, &on_plane);
+  for (const double factor : {4.0, 1.0, 1.0}) {
+    std::vector<int> support;
+    ransac_internal::Inliers(plane, H, factor * threshold2, &support);
+    std::vector<Model> refit;
+    if (support.size() >= 8) plane.NonMinimalSolve(support, H, &refit);
+    if (refit.empty()) break;
+    std::vector<int> refit_on_plane;
+    ransac_internal::Inliers(plane, refit.front(), threshold2, &refit_on_plane);
+    if (refit_on_plane.size() <= on_plane.size()) break;
+    H = refit.front();
+    on_plane.swap(refit_on_plane);
+  }
+  std::vector<int> off_plane;
+  for (size_t i = 0; i < x1.size(); ++i)
+    if (!(plane.SquaredResidual(H, i) < threshold2)) off_plane.push_back(static_cast<int>(i));
+  if (off_plane.size() < 2) return;
+  // Every F = [e2]x H carries the plane's data (x2 ~ H x1 lies on the line e2 x x2), so the
+  // candidates are ranked by their MSAC cost over the data off the plane alone.
+  std::uniform_int_distribution<size_t> pick(0, off_plane.size() - 1);
+  double best_cost = std::numeric_limits<double>::infinity();
+  Model best_model;
+  int required = options.degeneracy_max_trials;
+  for (int trial = 0; trial < required; ++trial) {
+    const size_t a = pick(*rng), b = pick(*rng);
+    Model F;
+    if (a == b || !FundamentalFromPlaneAndParallax(H, x1[off_plane[a]], x2[off_plane[a]],
+                                                   x1[off_plane[b]], x2[off_plane[b]], &F))
+      continue;
+    double cost = 0;
+    size_t parallax_inliers = 0;
+    for (const int i : off_plane) {
+      const double r2 = SquaredResidual(F, i);
+      parallax_inliers += r2 < threshold2;
+      cost += std::min(r2, threshold2);
+      if (!(cost < best_cost)) break;
+    }
+    if (!(cost < best_cost)) continue;
+    best_cost = cost;
+    best_model = F;
+    required = ransac_internal::RequiredIterations(
+        parallax_inliers, off_plane.size(), 2, options.confidence, options.degeneracy_min_trials,
+        options.degeneracy_max_trials);
+  }
+  if (!std::isfinite(best_cost)) return;
+  // F from a homography fitted to three points and two more points is rough: its least-squares
+  // refit on its inliers (which now hold the data off the plane) is offered beside it, as the
+  // local optimisation would do with a new best model.
+  models->push_back(best_model);
+  std::vector<int> inliers;
+  ransac_internal::Inliers(*this, best_model, threshold2, &inliers);
+  if (inliers.size() >= 8) NonMinimalSolve(inliers, best_model, models);
 }
 
 template struct TwoViewEstimator<TwoViewModel::kFundamental>;

@@ -1,7 +1,7 @@
 #pragma once
 // Robust two-view estimation: LO-RANSAC (ransac.h) around the minimal and linear solvers.
 //   F: seven-point minimal, normalised eight-point for local optimisation; residual = Sampson
-//      distance in pixels.
+//      distance in pixels; DEGENSAC's plane and parallax when RansacOptions asks for it.
 //   H: four-point normalised DLT; residual = one-sided transfer error |x2 - H x1| in pixels
 //      (as COLMAP: cheaper than the symmetric error, and the match direction is fixed).
 //   E: five-point minimal on normalised coordinates, eight-point + projection onto the
@@ -33,6 +33,12 @@ struct TwoViewEstimator {
   void NonMinimalSolve(const std::vector<int>& indices, const Model& initial,
                        std::vector<Model>* models) const;
   double SquaredResidual(const Model& model, size_t i) const;
+  // DEGENSAC, F only (fundamental_degeneracy.h): when five of the seven-point `sample` that gave
+  // `model` lie on one plane, the best plane-and-parallax F over pairs of data off that plane
+  // (MSAC or inlier score as options say; the pairs drawn from `rng`).
+  void DegeneracyModels(const std::vector<int>& sample, const Model& model,
+                        const RansacOptions& options, Rng* rng, std::vector<Model>* models) const
+      requires(kModel == TwoViewModel::kFundamental);
 };
 
 using FundamentalEstimator = TwoViewEstimator<TwoViewModel::kFundamental>;

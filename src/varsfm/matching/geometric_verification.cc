@@ -55,7 +55,7 @@ bool UsesOwnRansac(RansacMethod method) {
 }
 
 // F or H by the project's RANSAC (estimators/ransac.h), with graph-cut local optimisation for
-// kGraphCut.
+// kGraphCut and, for F, DEGENSAC unless options say otherwise.
 RobustFit FitOwn(const MatchedPoints& points, bool homography, const VerificationOptions& options,
                  uint64_t seed) {
   RansacOptions ransac;
@@ -63,6 +63,7 @@ RobustFit FitOwn(const MatchedPoints& points, bool homography, const Verificatio
   ransac.confidence = options.confidence;
   ransac.max_iterations = options.max_num_trials;
   ransac.spatial_coherence = options.spatial_coherence;
+  ransac.degeneracy_recovery = options.degeneracy_recovery;
   ransac.seed = seed;
   const NeighbourhoodGraph* graph =
       options.method == RansacMethod::kGraphCut ? &points.neighbourhood : nullptr;

@@ -44,6 +44,10 @@ struct VerificationOptions {
   // equal labels among neighbours (RansacOptions::spatial_coherence).
   double mean_neighbours = 6.0;
   double spatial_coherence = 0.2;
+  // kLoRansac, kGraphCut: DEGENSAC for F (estimators/fundamental_degeneracy.h): a model from a
+  // sample mostly on one plane, or one that became so in its local optimisation, is recovered
+  // by plane and parallax. OpenCV's USAC has its own test.
+  bool degeneracy_recovery = true;
   uint64_t seed = kDefaultSeed;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value

@@ -117,6 +117,9 @@ std::string MatchSettings(const MatchOptions& options) {
     settings["mean_neighbours"] = verification.mean_neighbours;
     settings["spatial_coherence"] = verification.spatial_coherence;
   }
+  if (verification.method == RansacMethod::kLoRansac ||
+      verification.method == RansacMethod::kGraphCut)
+    settings["degeneracy_recovery"] = verification.degeneracy_recovery;
   settings["seed"] = options.seed;  // verification.seed is derived from it per pair
   return settings.dump();
 }
