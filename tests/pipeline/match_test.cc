@@ -158,6 +158,16 @@ TEST(MatchPipeline, OtherSettingsMatchAgainAndThreadsChangeNothing) {
   // A pair that failed verification is tried again under other verification settings.
   options.verification.min_num_inliers = 8;
   EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+
+  // DEGENSAC changes what the project's RANSAC gives, not what OpenCV's USAC gives: only with
+  // the former does switching it off match again.
+  options.verification.degeneracy_recovery = false;
+  EXPECT_EQ(RunMatching(options).num_skipped, 10u);
+  options.verification.method = RansacMethod::kLoRansac;
+  EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+  options.verification.degeneracy_recovery = true;
+  EXPECT_EQ(RunMatching(options).num_skipped, 0u);
+  EXPECT_EQ(RunMatching(options).num_skipped, 10u);
 }
 
 TEST(MatchCommand, BadWorkspacesFailWithOneLine) {
