@@ -29,10 +29,29 @@ bool SolveDenseCholesky(Eigen::MatrixXd* upper, const Eigen::VectorXd& b, Eigen:
 
 SparseCholesky::SparseCholesky() {
   llt_.cholmod().print = 0;  // a matrix that is not positive definite is an answer, not news
+  UseNestedDissection(true);
+}
+
+// The fill-reducing ordering. CHOLMOD's default tries AMD and turns to METIS's nested dissection
+// only when AMD's fill passes a threshold; the reduced camera system of a large model (a camera
+// co-visibility graph) is ordered better by METIS well below it (docs/measurements.md, "Cholesky
+// factorisations"). A CHOLMOD built without METIS refuses the method; then its default applies.
+void SparseCholesky::UseNestedDissection(bool metis) {
+  cholmod_common& common = llt_.cholmod();
+  if (metis) {
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_METIS;
+  } else {
+    common.nmethods = 0;  // CHOLMOD's default: AMD, and METIS when AMD's fill is large
+  }
 }
 
 void SparseCholesky::AnalyzePattern(const Eigen::SparseMatrix<double>& upper) {
   llt_.analyzePattern(upper);
+  if (llt_.cholmod().status != CHOLMOD_OK && llt_.cholmod().nmethods == 1) {
+    UseNestedDissection(false);
+    llt_.analyzePattern(upper);
+  }
 }
 
 bool SparseCholesky::Factorize(const Eigen::SparseMatrix<double>& upper) {

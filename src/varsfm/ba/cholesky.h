@@ -26,6 +26,8 @@ class SparseCholesky {
   Eigen::VectorXd Solve(const Eigen::VectorXd& b) const;
 
  private:
+  void UseNestedDissection(bool metis);
+
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt_;
 };
 
