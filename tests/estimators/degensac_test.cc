@@ -28,7 +28,11 @@ FacadePair MakeFacadePair(int num_plane, int num_off_plane, int num_outliers, do
                           uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::normal_distribution<double> noise(0, noise_px);
+  // A unit normal scaled by noise_px: the same draws for any noise, so a pair made without
+  // noise is the same scene as one made with it (and a zero deviation is not asked of
+  // std::normal_distribution, whose deviation must be positive).
+  std::normal_distribution<double> unit_normal(0, 1);
+  const auto noise = [&](std::mt19937_64& g) { return noise_px * unit_normal(g); };
   Eigen::Matrix3d K;
   K << 800, 0, 320, 0, 800, 240, 0, 0, 1;
   Rigid3d cam2_from_cam1;

@@ -274,16 +274,17 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
   };
 
   // Recovery from a degenerate sample (RansacOptions::degeneracy_recovery) of best_model, new
-  // from `sample`: whether the estimator found it degenerate; `improved`, whether a recovered
-  // model scored better.
+  // from `sample`: the estimator's recovered models are left in `models` (none when it found
+  // the sample sound); true when one of them scored better.
   constexpr bool kRecovers = requires(const Estimator& e, std::vector<Model>* out, Rng* r) {
     e.DegeneracyModels(sample, best_model, options, r, out);
   };
-  const auto recover = [&](bool* improved) {
+  const auto recover = [&] {
     models.clear();
     if constexpr (kRecovers) estimator.DegeneracyModels(sample, best_model, options, &rng, &models);
-    for (const Model& model : models) *improved |= consider(model);
-    return !models.empty();
+    bool improved = false;
+    for (const Model& model : models) improved |= consider(model);
+    return improved;
   };
 
   int required = options.max_iterations;
@@ -295,8 +296,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
     bool improved = false;
     for (const Model& model : models) improved |= consider(model);
     if (!improved) continue;
-    bool recovered_better = false;
-    if (kRecovers && options.degeneracy_recovery) recover(&recovered_better);
+    if (kRecovers && options.degeneracy_recovery) recover();
     if (options.local_optimization) neighbourhood ? graph_cut_optimize() : local_optimize();
     required = ransac_internal::RequiredIterations(best.num_inliers, n, kSample, options.confidence,
                                                    options.min_iterations, options.max_iterations);
@@ -316,8 +316,8 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
          ++trial) {
       ransac_internal::ShuffleFront(kSample, &inliers, &rng);
       sample.assign(inliers.begin(), inliers.begin() + kSample);
-      bool improved = false;
-      if (!recover(&improved)) continue;
+      const bool improved = recover();
+      if (models.empty()) continue;  // the model passed the test on this sample
       if (improved && options.local_optimization)
         neighbourhood ? graph_cut_optimize() : local_optimize();
       break;

@@ -105,9 +105,14 @@ void TwoViewEstimator<kModel>::DegeneracyModels(const std::vector<int>& sample, 
     H = refit.front();
     on_plane.swap(refit_on_plane);
   }
+  // The data off the plane: the complement of on_plane (ascending, as Inliers lists them).
   std::vector<int> off_plane;
-  for (size_t i = 0; i < x1.size(); ++i)
-    if (!(plane.SquaredResidual(H, i) < threshold2)) off_plane.push_back(static_cast<int>(i));
+  for (int i = 0, next = 0; i < static_cast<int>(x1.size()); ++i) {
+    if (next < static_cast<int>(on_plane.size()) && on_plane[next] == i)
+      ++next;
+    else
+      off_plane.push_back(i);
+  }
   if (off_plane.size() < 2) return;
   // Every F = [e2]x H carries the plane's data (x2 ~ H x1 lies on the line e2 x x2), so the
   // candidates are ranked by their MSAC cost over the data off the plane alone.
