@@ -273,6 +273,11 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
     }
   };
 
+  // The local optimisation of a new best model, as the options and the neighbourhood choose.
+  const auto optimize = [&] {
+    if (options.local_optimization) neighbourhood ? graph_cut_optimize() : local_optimize();
+  };
+
   // Recovery from a degenerate sample (RansacOptions::degeneracy_recovery) of best_model, new
   // from `sample`: the estimator's recovered models are left in `models` (none when it found
   // the sample sound); true when one of them scored better.
@@ -297,7 +302,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
     for (const Model& model : models) improved |= consider(model);
     if (!improved) continue;
     if (kRecovers && options.degeneracy_recovery) recover();
-    if (options.local_optimization) neighbourhood ? graph_cut_optimize() : local_optimize();
+    optimize();
     required = ransac_internal::RequiredIterations(best.num_inliers, n, kSample, options.confidence,
                                                    options.min_iterations, options.max_iterations);
   }
@@ -318,8 +323,7 @@ RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
       sample.assign(inliers.begin(), inliers.begin() + kSample);
       const bool improved = recover();
       if (models.empty()) continue;  // the model passed the test on this sample
-      if (improved && options.local_optimization)
-        neighbourhood ? graph_cut_optimize() : local_optimize();
+      if (improved) optimize();
       break;
     }
   }
