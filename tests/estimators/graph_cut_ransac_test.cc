@@ -45,6 +45,25 @@ TEST(CorrespondenceNeighbourhood, HasExactlyThePairsWithinItsRadius) {
   EXPECT_LT(wild / 100, 0.2 * alike / 500);
 }
 
+// Correspondences on one row of image 1 (x1's bounding box has no area) and some sharing a
+// point: the pairs are still exactly those within the radius.
+TEST(CorrespondenceNeighbourhood, ExactOnALineAndWithCoincidentPoints) {
+  std::vector<Eigen::Vector2d> x1, x2;
+  for (int i = 0; i < 200; ++i) {
+    x1.emplace_back(i % 50 == 0 ? 10.0 : 3.0 * i, 120);
+    x2.emplace_back(i % 50 == 0 ? 10.0 : 3.0 * i + (i % 7), 80);
+  }
+  const NeighbourhoodGraph graph = CorrespondenceNeighbourhood(x1, x2, 6);
+  // The radius of the header's formula: the area is clamped to 1, the radius to 1 pixel.
+  std::vector<std::pair<int, int>> expected;
+  for (int i = 0; i < 200; ++i)
+    for (int j = i + 1; j < 200; ++j)
+      if ((x1[i] - x1[j]).squaredNorm() + (x2[i] - x2[j]).squaredNorm() <= 1.0)
+        expected.emplace_back(i, j);
+  EXPECT_EQ(graph.edges, expected);
+  EXPECT_EQ(expected.size(), 6u);  // the four coincident ones
+}
+
 TEST(CorrespondenceNeighbourhood, EmptyForFewerThanTwoPoints) {
   EXPECT_TRUE(CorrespondenceNeighbourhood({}, {}, 6).edges.empty());
   EXPECT_TRUE(CorrespondenceNeighbourhood({{1, 1}}, {{2, 2}}, 6).edges.empty());

@@ -10,6 +10,34 @@
 namespace varsfm {
 namespace {
 
+TEST(Homography4pt, ExactMinimalSolveAgreesWithTheDLT) {
+  SyntheticOptions o;
+  o.structure = SyntheticOptions::Structure::kPlane;
+  o.num_images = 3;
+  o.focal_start = 900;
+  o.focal_end = 1600;
+  const testing::Matches m = testing::PairMatches(GenerateSyntheticScene(o), 0, 2);
+  ASSERT_GE(m.x1.size(), 40u);
+  for (size_t first = 0; first + 4 <= 40; first += 4) {
+    const std::vector<Eigen::Vector2d> y1(m.x1.begin() + first, m.x1.begin() + first + 4);
+    const std::vector<Eigen::Vector2d> y2(m.x2.begin() + first, m.x2.begin() + first + 4);
+    Eigen::Matrix3d H, H_dlt;
+    ASSERT_TRUE(Homography4pt(y1, y2, &H));
+    ASSERT_TRUE(HomographyDLT(y1, y2, &H_dlt));
+    // Both unit norm: equal up to sign.
+    EXPECT_LT(std::min((H - H_dlt).norm(), (H + H_dlt).norm()), 1e-7);
+    for (size_t i = 0; i < m.x1.size(); ++i)
+      EXPECT_LT(((H * m.x1[i].homogeneous()).hnormalized() - m.x2[i]).norm(), 1e-7);
+  }
+  // Three of the four on a line: no homography.
+  const std::vector<Eigen::Vector2d> line1{{0, 0}, {100, 100}, {200, 200}, {50, 300}};
+  const std::vector<Eigen::Vector2d> line2{{10, 0}, {110, 90}, {210, 180}, {40, 310}};
+  Eigen::Matrix3d H;
+  EXPECT_FALSE(Homography4pt(line1, line2, &H));
+  EXPECT_FALSE(
+      Homography4pt({line1.begin(), line1.begin() + 3}, {line2.begin(), line2.begin() + 3}, &H));
+}
+
 TEST(HomographyDLT, ExactOnPlanarScene) {
   SyntheticOptions o;
   o.structure = SyntheticOptions::Structure::kPlane;

@@ -1,4 +1,8 @@
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
 #include <Eigen/SVD>
 
 #include "varsfm/geometry/essential.h"
@@ -41,6 +45,25 @@ TEST(Fundamental, FromProjectionsAndFromPoseAgreeAndAreExact) {
   // e2 is the image of camera 1's centre in image 2.
   const Eigen::Vector3d c1 = scene.ProjectionMatrix(3) * scene.poses[0].Center().homogeneous();
   EXPECT_LT(c1.normalized().cross(e2).norm(), 1e-9);
+}
+
+// The scalar form in fundamental.h claims the sums of the textbook form in the same order: the
+// same doubles, to the bit (the mapper's models depend on it).
+TEST(Fundamental, SampsonErrorSquaredIsTheMatrixFormToTheBit) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> entry(0, 1);
+  std::uniform_real_distribution<double> pixel(0, 3000);
+  for (int trial = 0; trial < 20000; ++trial) {
+    Eigen::Matrix3d F;
+    for (int i = 0; i < 9; ++i) F(i) = entry(rng) * std::pow(10.0, -(i % 4));
+    const Eigen::Vector2d x1(pixel(rng), pixel(rng)), x2(pixel(rng), pixel(rng));
+    const Eigen::Vector3d Fx1 = F * x1.homogeneous();
+    const Eigen::Vector3d Ftx2 = F.transpose() * x2.homogeneous();
+    const double e = x2.homogeneous().dot(Fx1);
+    const double d = Fx1.head<2>().squaredNorm() + Ftx2.head<2>().squaredNorm();
+    ASSERT_EQ(SampsonErrorSquared(F, x1, x2), e * e / d) << trial;
+  }
+  EXPECT_EQ(SampsonErrorSquared(Eigen::Matrix3d::Zero(), {1, 2}, {3, 4}), 0.0);
 }
 
 TEST(Fundamental, SampsonErrorMatchesOffsetForSmallPerturbation) {

@@ -1,25 +1,11 @@
 #include "varsfm/estimators/neighbourhood_graph.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
-#include <unordered_map>
 
 namespace varsfm {
-namespace {
-
-using Cell = std::array<int64_t, 4>;
-
-// 16 bits per coordinate: cells are at least a pixel, images far below 65536 of them.
-uint64_t CellKey(const Cell& c) {
-  uint64_t key = 0;
-  for (int64_t v : c) key = (key << 16) | static_cast<uint64_t>(v & 0xffff);
-  return key;
-}
-
-}  // namespace
 
 NeighbourhoodGraph CorrespondenceNeighbourhood(const std::vector<Eigen::Vector2d>& x1,
                                                const std::vector<Eigen::Vector2d>& x2,
@@ -34,32 +20,45 @@ NeighbourhoodGraph CorrespondenceNeighbourhood(const std::vector<Eigen::Vector2d
       1.0, std::sqrt(mean_neighbours * area / (std::numbers::pi * static_cast<double>(n))));
   const double radius2 = radius * radius;
 
-  const auto cell_of = [&](size_t i) {
-    return Cell{static_cast<int64_t>(std::floor(x1[i].x() / radius)),
-                static_cast<int64_t>(std::floor(x1[i].y() / radius)),
-                static_cast<int64_t>(std::floor(x2[i].x() / radius)),
-                static_cast<int64_t>(std::floor(x2[i].y() / radius))};
+  // Pairs within the radius in the joint space are within it in image 1: a grid of cells of
+  // that size over x1 (about n pi / mean_neighbours cells, the correspondences bucketed by a
+  // counting sort) gives the candidates, the joint distance decides.
+  const auto cells_along = [&](double extent) {
+    return static_cast<size_t>(std::floor(extent / radius)) + 1;
   };
-  std::unordered_map<uint64_t, std::vector<int>> cells;
-  for (size_t i = 0; i < n; ++i) cells[CellKey(cell_of(i))].push_back(static_cast<int>(i));
+  const size_t columns = cells_along(hi.x() - lo.x()), rows = cells_along(hi.y() - lo.y());
+  const auto cell_of = [&](size_t i) {
+    const auto column = static_cast<size_t>(std::floor((x1[i].x() - lo.x()) / radius));
+    const auto row = static_cast<size_t>(std::floor((x1[i].y() - lo.y()) / radius));
+    return std::pair{std::min(column, columns - 1), std::min(row, rows - 1)};
+  };
+  std::vector<uint32_t> begin(columns * rows + 1, 0), members(n);
+  for (size_t i = 0; i < n; ++i) {
+    const auto [column, row] = cell_of(i);
+    ++begin[row * columns + column + 1];
+  }
+  for (size_t c = 0; c < columns * rows; ++c) begin[c + 1] += begin[c];
+  std::vector<uint32_t> next(begin.begin(), begin.end() - 1);
+  for (size_t i = 0; i < n; ++i) {
+    const auto [column, row] = cell_of(i);
+    members[next[row * columns + column]++] = static_cast<uint32_t>(i);
+  }
 
   std::vector<int> found;
   for (size_t i = 0; i < n; ++i) {
-    const Cell c = cell_of(i);
+    const auto [column, row] = cell_of(i);
     found.clear();
-    for (int d = 0; d < 81; ++d) {  // the 3^4 cells around c
-      Cell neighbour = c;
-      for (int axis = 0, code = d; axis < 4; ++axis, code /= 3) neighbour[axis] += code % 3 - 1;
-      const auto it = cells.find(CellKey(neighbour));
-      if (it == cells.end()) continue;
-      for (const int j : it->second) {
-        if (j <= static_cast<int>(i)) continue;
-        const double d2 = (x1[j] - x1[i]).squaredNorm() + (x2[j] - x2[i]).squaredNorm();
-        if (d2 <= radius2) found.push_back(j);
+    for (size_t r = row > 0 ? row - 1 : 0; r <= std::min(row + 1, rows - 1); ++r) {
+      for (size_t c = column > 0 ? column - 1 : 0; c <= std::min(column + 1, columns - 1); ++c) {
+        for (uint32_t k = begin[r * columns + c]; k < begin[r * columns + c + 1]; ++k) {
+          const uint32_t j = members[k];
+          if (j <= i) continue;
+          const double d2 = (x1[j] - x1[i]).squaredNorm() + (x2[j] - x2[i]).squaredNorm();
+          if (d2 <= radius2) found.push_back(static_cast<int>(j));
+        }
       }
     }
     std::sort(found.begin(), found.end());
-    found.erase(std::unique(found.begin(), found.end()), found.end());
     for (const int j : found) graph.edges.emplace_back(static_cast<int>(i), j);
   }
   return graph;

@@ -34,16 +34,15 @@ void Gather(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vec
 template <TwoViewModel kModel>
 void TwoViewEstimator<kModel>::MinimalSolve(const std::vector<int>& sample,
                                             std::vector<Model>* models) const {
+  std::vector<Eigen::Vector2d> y1, y2;
+  Gather(x1, x2, sample, &y1, &y2);
   if constexpr (kModel == TwoViewModel::kHomography) {
-    NonMinimalSolve(sample, Model::Zero(), models);  // the four-point DLT is the linear solver
+    Eigen::Matrix3d H;
+    if (Homography4pt(y1, y2, &H)) models->push_back(H);
+  } else if constexpr (kModel == TwoViewModel::kFundamental) {
+    Fundamental7pt(y1, y2, models);
   } else {
-    std::vector<Eigen::Vector2d> y1, y2;
-    Gather(x1, x2, sample, &y1, &y2);
-    if constexpr (kModel == TwoViewModel::kFundamental) {
-      Fundamental7pt(y1, y2, models);
-    } else {
-      Essential5pt(y1, y2, models);
-    }
+    Essential5pt(y1, y2, models);
   }
 }
 

@@ -32,12 +32,20 @@ Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K1, const Eigen::Matr
 
 // The squared Sampson distance (H&Z eq. 11.9), the first-order approximation of the squared
 // geometric (reprojection) error, in squared pixels for pixel inputs.
+// Written out in scalars: RANSAC evaluates it for every datum of every hypothesis, and GCC left
+// the Eigen form (F * x1.homogeneous(), ...) as calls, four times slower; the sums are the same,
+// in the same order, so the result is the same to the bit.
 inline double SampsonErrorSquared(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1,
                                   const Eigen::Vector2d& x2) {
-  const Eigen::Vector3d Fx1 = F * x1.homogeneous();
-  const Eigen::Vector3d Ftx2 = F.transpose() * x2.homogeneous();
-  const double e = x2.homogeneous().dot(Fx1);
-  const double d = Fx1.head<2>().squaredNorm() + Ftx2.head<2>().squaredNorm();
+  const double u1 = x1.x(), v1 = x1.y(), u2 = x2.x(), v2 = x2.y();
+  // F x1 and the first two entries of F^T x2.
+  const double l0 = F(0, 0) * u1 + F(0, 1) * v1 + F(0, 2);
+  const double l1 = F(1, 0) * u1 + F(1, 1) * v1 + F(1, 2);
+  const double l2 = F(2, 0) * u1 + F(2, 1) * v1 + F(2, 2);
+  const double m0 = F(0, 0) * u2 + F(1, 0) * v2 + F(2, 0);
+  const double m1 = F(0, 1) * u2 + F(1, 1) * v2 + F(2, 1);
+  const double e = u2 * l0 + v2 * l1 + l2;  // x2^T F x1
+  const double d = (l0 * l0 + l1 * l1) + (m0 * m0 + m1 * m1);
   return d > 0 ? e * e / d : (e == 0 ? 0.0 : std::numeric_limits<double>::infinity());
 }
 
