@@ -196,6 +196,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                  "global BAs stop when an iteration lowers the cost by less than this fraction");
   AddWithDefault(cmd, "--growth-ba-tolerance", a.growth_ba_function_tolerance,
                  "the same for the global BAs as the model grows (--global-ba-growth)");
+  AddWithDefault(cmd, "--two-view-filter", a.final_two_view_filter_factor,
+                 "after the final BA, points of two views above this x the RMS error are removed "
+                 "and the model adjusted again (0: no)");
   AddWithDefault(cmd, "--growth-ba-max-track", a.growth_ba_max_point_observations,
                  "observations per point in the global BAs as the model grows (0: all)");
   AddWithDefault(cmd, "--growth-ba-subset-images", a.growth_ba_subset_min_images,

@@ -60,6 +60,37 @@ TEST(Reconstruction, FilteringRemovesOnlyBadObservations) {
   EXPECT_GT(rec.FilterPointsWithSmallTriangulationAngle(60.0), 0u);
 }
 
+TEST(Reconstruction, TwoViewFilterRemovesOnlyBadTwoViewPoints) {
+  SyntheticOptions o;
+  o.num_images = 4;
+  o.num_points = 200;
+  Reconstruction rec = ReconstructionFromSynthetic(GenerateSyntheticScene(o));
+  // Three points cut down to two views, two points left with more; one of each pair corrupted
+  // by 3 px in one observation.
+  std::vector<point3D_t> ids;
+  for (const auto& [id, point] : rec.points3D())
+    if (point.track.size() >= 4) ids.push_back(id);
+  ASSERT_GE(ids.size(), 5u);
+  for (int k = 0; k < 3; ++k) {
+    while (rec.point3D(ids[k]).track.size() > 2) {
+      const TrackElement el = rec.point3D(ids[k]).track.back();
+      rec.DeleteObservation(el.image_id, el.point2D_idx);
+    }
+  }
+  const auto corrupt = [&](point3D_t id) {
+    const TrackElement el = rec.point3D(id).track.front();
+    rec.image(el.image_id).points2D[el.point2D_idx].xy += Eigen::Vector2d(0, 3);
+  };
+  corrupt(ids[0]);  // two views, 3 px: removed
+  corrupt(ids[3]);  // four views, 3 px: kept (other filters judge it)
+  const size_t points = rec.points3D().size();
+  EXPECT_EQ(rec.FilterTwoViewPointsWithLargeError(2.0), 1u);
+  EXPECT_FALSE(rec.ExistsPoint3D(ids[0]));
+  EXPECT_TRUE(rec.ExistsPoint3D(ids[1]) && rec.ExistsPoint3D(ids[2]) && rec.ExistsPoint3D(ids[3]));
+  EXPECT_EQ(rec.points3D().size(), points - 1);
+  EXPECT_EQ(rec.FilterTwoViewPointsWithLargeError(4.0), 0u);
+}
+
 TEST(Reconstruction, DeRegisterRemovesObservationsAndShortTracks) {
   SyntheticOptions o;
   o.num_images = 3;

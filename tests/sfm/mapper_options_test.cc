@@ -82,6 +82,8 @@ TEST(MapperOptions, ScheduleRefusesBadValues) {
        {"--global-ba-growth", [](O& o) { o.global_ba_growth = kInf; }},
        {"--global-ba-tolerance", [](O& o) { o.global_ba_function_tolerance = 0; }},
        {"--growth-ba-tolerance", [](O& o) { o.growth_ba_function_tolerance = -1e-4; }},
+       {"--two-view-filter", [](O& o) { o.final_two_view_filter_factor = -1; }},
+       {"--two-view-filter", [](O& o) { o.final_two_view_filter_factor = kNan; }},
        {"--global-ba-trust-region",
         [](O& o) {
           o.global_ba_trust_region = static_cast<BundleAdjustmentOptions::TrustRegion>(9);

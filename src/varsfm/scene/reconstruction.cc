@@ -272,6 +272,20 @@ size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
   return removed;
 }
 
+size_t Reconstruction::FilterTwoViewPointsWithLargeError(double max_error_px) {
+  const double max_sq = max_error_px * max_error_px;
+  ViewCache views(images_, cameras_);
+  std::vector<point3D_t> removed;
+  for (const auto& [id, point] : points3D_) {
+    if (point.track.size() != 2) continue;
+    if (views.SquaredError(point.track[0], point.xyz) > max_sq ||
+        views.SquaredError(point.track[1], point.xyz) > max_sq)
+      removed.push_back(id);
+  }
+  for (const point3D_t id : removed) DeletePoint3D(id);
+  return removed.size();
+}
+
 size_t Reconstruction::FilterPointsWithSmallTriangulationAngle(
     double min_angle_deg, const std::vector<image_t>& image_ids) {
   const double min_angle = min_angle_deg * std::numbers::pi / 180.0;

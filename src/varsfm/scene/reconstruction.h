@@ -120,6 +120,9 @@ class Reconstruction {
                                           const std::vector<image_t>& image_ids = {});
   size_t FilterPointsWithSmallTriangulationAngle(double min_angle_deg,
                                                  const std::vector<image_t>& image_ids = {});
+  // Removes the points seen by exactly two images with an observation's reprojection error above
+  // max_error_px; returns the number of points removed.
+  size_t FilterTwoViewPointsWithLargeError(double max_error_px);
 
   // The observer told of every change from now on (null: none). It belongs to this object, not
   // to its contents: a copy starts without one, and an assignment, which replaces the contents

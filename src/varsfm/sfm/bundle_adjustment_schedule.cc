@@ -17,6 +17,7 @@ void BundleAdjustmentScheduleOptions::Check() const {
     FailOption("--global-ba-growth", "0 (never) or a number > 1", global_ba_growth);
   CheckPositive("--global-ba-tolerance", global_ba_function_tolerance);
   CheckPositive("--growth-ba-tolerance", growth_ba_function_tolerance);
+  CheckNonNegative("--two-view-filter", final_two_view_filter_factor);
   if (global_ba_trust_region != BundleAdjustmentOptions::TrustRegion::kDogleg &&
       global_ba_trust_region != BundleAdjustmentOptions::TrustRegion::kLevenbergMarquardt)
     FailOption("--global-ba-trust-region", "dogleg or lm",

@@ -69,6 +69,13 @@ struct BundleAdjustmentScheduleOptions {
   // local-only, Mouragnon-like baseline of the benchmarks.
   bool final_global_ba = true;
   int final_global_ba_max_iterations = 50;
+  // After the final adjustment, the points seen by two images only with an observation above
+  // this factor x the model's RMS reprojection error are removed, and the model is adjusted once
+  // more (to growth_ba_function_tolerance: it starts at the optimum); 0: not. No third view can
+  // expose a wrong match that fits a wrong epipolar geometry within the verification threshold,
+  // and on a nearly planar scene a few dozen of them pull every focal length along the
+  // focal-length / depth valley (bench/results/2026-12-04-s14-two-view-filter.md).
+  double final_two_view_filter_factor = 2.0;
 
   // After each adjustment, observations with a larger reprojection error (px) are removed, and
   // points whose views are less than this far apart (deg): the triangulation's thresholds

@@ -59,10 +59,20 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
 
   // 3. Final global adjustment (with re-triangulation and filtering).
   const BundleAdjustmentScheduleOptions& schedule = options_.adjustment;
-  if (schedule.final_global_ba)
+  if (schedule.final_global_ba) {
     GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/true,
                            schedule.final_global_ba_max_iterations,
                            schedule.global_ba_function_tolerance);
+    if (schedule.final_two_view_filter_factor > 0) {
+      const double max_error = schedule.final_two_view_filter_factor * rec->RmsReprojectionError();
+      const size_t removed = rec->FilterTwoViewPointsWithLargeError(max_error);
+      debug("{} two-view points above {:.3f} px removed", removed, max_error);
+      if (removed > 0)
+        GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/false,
+                               schedule.final_global_ba_max_iterations,
+                               schedule.growth_ba_function_tolerance);
+    }
+  }
   rec->UpdatePointErrors();
   summary.num_registered = rec->NumRegisteredImages();
   summary.success = true;
