@@ -10,13 +10,18 @@
 namespace varsfm {
 namespace {
 
-TEST(Homography4pt, ExactMinimalSolveAgreesWithTheDLT) {
+// Three views of a plane, zooming from 900 to 1600 px.
+SyntheticOptions ZoomingPlane() {
   SyntheticOptions o;
   o.structure = SyntheticOptions::Structure::kPlane;
   o.num_images = 3;
   o.focal_start = 900;
   o.focal_end = 1600;
-  const testing::Matches m = testing::PairMatches(GenerateSyntheticScene(o), 0, 2);
+  return o;
+}
+
+TEST(Homography4pt, ExactMinimalSolveAgreesWithTheDLT) {
+  const testing::Matches m = testing::PairMatches(GenerateSyntheticScene(ZoomingPlane()), 0, 2);
   ASSERT_GE(m.x1.size(), 40u);
   for (size_t first = 0; first + 4 <= 40; first += 4) {
     const std::vector<Eigen::Vector2d> y1(m.x1.begin() + first, m.x1.begin() + first + 4);
@@ -39,11 +44,7 @@ TEST(Homography4pt, ExactMinimalSolveAgreesWithTheDLT) {
 }
 
 TEST(HomographyDLT, ExactOnPlanarScene) {
-  SyntheticOptions o;
-  o.structure = SyntheticOptions::Structure::kPlane;
-  o.num_images = 3;
-  o.focal_start = 900;
-  o.focal_end = 1600;
+  SyntheticOptions o = ZoomingPlane();
   const SyntheticScene scene = GenerateSyntheticScene(o);
   const testing::Matches m = testing::PairMatches(scene, 0, 2);
   for (const size_t n : {size_t{4}, m.x1.size()}) {
