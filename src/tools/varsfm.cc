@@ -298,7 +298,9 @@ void AddMatchCommand(CLI::App* app) {
   AddWithDefault(cmd, "--ratio", options->matching.max_ratio,
                  "Lowe's ratio test on descriptor angles");
   AddWithDefault(cmd, "--max-error", options->verification.max_error,
-                 "RANSAC inlier threshold (px)");
+                 "RANSAC inlier threshold of the fundamental matrix (px, Sampson distance)");
+  AddWithDefault(cmd, "--homography-max-error", options->verification.homography_max_error,
+                 "RANSAC inlier threshold of the homography (px, transfer error)");
   AddWithDefault(cmd, "--min-inliers", options->verification.min_num_inliers,
                  "fewer inliers: the pair is not verified");
   AddChoice(cmd, "--ransac", &options->verification.method, ChoicesOf(varsfm::kRansacMethodNames),

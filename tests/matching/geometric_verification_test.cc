@@ -115,6 +115,23 @@ TEST(GeometricVerification, PlanarSceneIsFlaggedPlanar) {
   }
 }
 
+// F and H are judged each at its own threshold: an H held to 0.05 px (below the noise) no
+// longer flags the plane, and an F held to 0.005 px no longer verifies the pair.
+TEST(GeometricVerification, EachModelHasItsOwnThreshold) {
+  const SyntheticPair pair = MakePair(150, 50, true, 8);
+  VerificationOptions options;
+  options.homography_max_error = 0.05;
+  const TwoViewGeometry tight_h =
+      VerifyTwoViewGeometry(pair.keypoints1, pair.keypoints2, pair.matches, options);
+  EXPECT_EQ(tight_h.config, TwoViewGeometry::kUncalibrated);
+  EXPECT_GE(CountTrueInliers(tight_h, 150), 120);
+  options = {};
+  options.max_error = 0.005;
+  const TwoViewGeometry tight_f =
+      VerifyTwoViewGeometry(pair.keypoints1, pair.keypoints2, pair.matches, options);
+  EXPECT_EQ(tight_f.config, TwoViewGeometry::kDegenerate);
+}
+
 TEST(GeometricVerification, TooFewMatchesIsDegenerate) {
   const SyntheticPair pair = MakePair(10, 0, false, 9);
   const TwoViewGeometry g = VerifyTwoViewGeometry(pair.keypoints1, pair.keypoints2, pair.matches);

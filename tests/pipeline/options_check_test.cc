@@ -58,6 +58,7 @@ TEST(OptionsCheck, Match) {
            {"max_distance", [](auto& o) { o.matching.max_distance = -kInf; }},
            {"--overlap", [](auto& o) { o.overlap = 0; }},
            {"--max-error", [](auto& o) { o.verification.max_error = kInf; }},
+           {"--homography-max-error", [](auto& o) { o.verification.homography_max_error = 0; }},
            {"--min-inliers", [](auto& o) { o.verification.min_num_inliers = 0; }},
            {"confidence", [](auto& o) { o.verification.confidence = kNan; }},
            {"max_H_inlier_ratio", [](auto& o) { o.verification.max_H_inlier_ratio = -0.1; }},

@@ -18,11 +18,15 @@ struct RobustFit {
   int num_inliers = 0;
 };
 
+double InlierThreshold(const VerificationOptions& options, bool homography) {
+  return homography ? options.homography_max_error : options.max_error;
+}
+
 cv::UsacParams MakeUsacParams(const VerificationOptions& options, bool homography, uint64_t seed) {
   cv::UsacParams params;
   params.confidence = options.confidence;
   params.maxIterations = options.max_num_trials;
-  params.threshold = options.max_error;
+  params.threshold = InlierThreshold(options, homography);
   params.isParallel = false;  // pairs already run in parallel
   params.randomGeneratorState = static_cast<int>(seed & 0x7fffffff);
   params.sampler = cv::SAMPLING_UNIFORM;
@@ -59,7 +63,7 @@ bool UsesOwnRansac(RansacMethod method) {
 RobustFit FitOwn(const MatchedPoints& points, bool homography, const VerificationOptions& options,
                  uint64_t seed) {
   RansacOptions ransac;
-  ransac.max_error = options.max_error;
+  ransac.max_error = InlierThreshold(options, homography);
   ransac.confidence = options.confidence;
   ransac.max_iterations = options.max_num_trials;
   ransac.spatial_coherence = options.spatial_coherence;
@@ -91,8 +95,8 @@ RobustFit Fit(const MatchedPoints& points, bool homography, const VerificationOp
     cv::theRNG().state = seed | 1;
     model =
         homography
-            ? cv::findHomography(points1, points2, cv::RANSAC, options.max_error, fit.inlier_mask,
-                                 options.max_num_trials, options.confidence)
+            ? cv::findHomography(points1, points2, cv::RANSAC, options.homography_max_error,
+                                 fit.inlier_mask, options.max_num_trials, options.confidence)
             : cv::findFundamentalMat(points1, points2, cv::FM_RANSAC, options.max_error,
                                      options.confidence, options.max_num_trials, fit.inlier_mask);
   } else {
@@ -164,6 +168,7 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
 
 void VerificationOptions::Check() const {
   CheckPositive("--max-error", max_error);
+  CheckPositive("--homography-max-error", homography_max_error);
   CheckAtLeast("--min-inliers", min_num_inliers, 1);
   CheckInHalfOpenRange("confidence", confidence, 0, 1);
   CheckAtLeast("max_num_trials", max_num_trials, 1);

@@ -109,6 +109,7 @@ std::string MatchSettings(const MatchOptions& options) {
   const VerificationOptions& verification = options.verification;
   settings["method"] = static_cast<int>(verification.method);
   settings["max_error"] = verification.max_error;
+  settings["homography_max_error"] = verification.homography_max_error;
   settings["min_num_inliers"] = verification.min_num_inliers;
   settings["confidence"] = verification.confidence;
   settings["max_num_trials"] = verification.max_num_trials;
