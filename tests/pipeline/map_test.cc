@@ -139,13 +139,21 @@ TEST(MapStage, UnconnectedScenesGiveAModelEachLargestFirst) {
   }
 }
 
-// One connected scene: exactly one model, and no second folder.
+// One connected scene: exactly one model, and no second folder; summary.json counts the two-view
+// points the filter after the final adjustment removed.
 TEST(MapStage, ConnectedSceneGivesOneModel) {
   testing::TempDir tmp("map_connected");
   std::vector<std::string> names;
   {
     Database db(tmp.path() / "workspace.db");
-    names = AddToWorkspace(GenerateSyntheticScene(Group(8, 5)), "image", &db);
+    SyntheticScene scene = GenerateSyntheticScene(Group(8, 5));
+    // 30 points seen by images 0 and 1 only, 2.5 px off in image 1 (across the epipolar lines
+    // of the horizontal arc): two-view points that no third view contradicts.
+    for (int i = 2; i < scene.NumImages(); ++i)
+      std::erase_if(scene.observations[i], [](const auto& obs) { return obs.point_id < 30; });
+    for (auto& obs : scene.observations[1])
+      if (obs.point_id < 30) obs.pixel.y() += 2.5;
+    names = AddToWorkspace(scene, "image", &db);
   }
   MapOptions options;
   options.workspace = tmp.path() / "workspace.db";
@@ -157,6 +165,17 @@ TEST(MapStage, ConnectedSceneGivesOneModel) {
   const nlohmann::json summary = ReadSummary(options.output);
   EXPECT_EQ(summary["models"].size(), 1u);
   EXPECT_TRUE(summary["images_in_no_model"].empty());
+  // The two-view filter after the final adjustment says what it removed: the model without it
+  // has exactly those points more (the runs are the same up to the filter).
+  options.mapper.adjustment.final_two_view_filter_factor = 0;
+  options.output = tmp.path() / "out_unfiltered";
+  RunMapping(options);
+  const nlohmann::json unfiltered = ReadSummary(options.output);
+  const size_t removed = summary["two_view_points_removed"].get<size_t>();
+  EXPECT_GE(removed, 20u);  // most of the 30 (a few may fall along an epipolar line)
+  EXPECT_LE(removed, 40u);
+  EXPECT_EQ(unfiltered["two_view_points_removed"].get<size_t>(), 0u);
+  EXPECT_EQ(summary["points3D"].get<size_t>() + removed, unfiltered["points3D"].get<size_t>());
 }
 
 // A new model in a folder where an earlier run left the later stages' results: those were made

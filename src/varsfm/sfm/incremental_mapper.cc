@@ -66,6 +66,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
     if (schedule.final_two_view_filter_factor > 0) {
       const double max_error = schedule.final_two_view_filter_factor * rec->RmsReprojectionError();
       const size_t removed = rec->FilterTwoViewPointsWithLargeError(max_error);
+      summary.num_two_view_points_removed = removed;
       debug("{} two-view points above {:.3f} px removed", removed, max_error);
       if (removed > 0)
         GlobalBundleAdjustment(rec, &summary, /*retriangulate=*/false,

@@ -90,7 +90,8 @@ struct MapperSummary {
   size_t num_images = 0;
   size_t num_local_ba = 0;
   size_t num_global_ba = 0;
-  size_t num_global_ba_iterations = 0;  // of all global adjustments together
+  size_t num_global_ba_iterations = 0;     // of all global adjustments together
+  size_t num_two_view_points_removed = 0;  // by the filter after the final adjustment
   double seconds_initialization = 0;
   double seconds_registration = 0;
   double seconds_triangulation = 0;
