@@ -31,12 +31,8 @@ bool Denormalize(const NormalizedCorrespondences& n, const Eigen::Matrix3d& Hn,
   return true;
 }
 
-}  // namespace
-
-bool HomographyDLT(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
-                   Eigen::Matrix3d* H) {
-  if (x1.size() < 4 || x1.size() != x2.size()) return false;
-  const NormalizedCorrespondences n = NormalizeCorrespondences(x1, x2);
+// The DLT on correspondences already normalised: h the least-squares null vector of the rows.
+bool NormalizedDLT(const NormalizedCorrespondences& n, Eigen::Matrix3d* H) {
   const auto rows = [&n](size_t i, const auto& add) {
     Eigen::Matrix<double, 9, 1> a, b;
     DltRows(n, i, &a, &b);
@@ -46,6 +42,14 @@ bool HomographyDLT(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eig
   Eigen::Matrix<double, 9, 1> h;
   if (!NullVectorOfRows<9>(n.x1.size(), rows, &h)) return false;
   return Denormalize(n, MatrixFromRowMajor(h), H);
+}
+
+}  // namespace
+
+bool HomographyDLT(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
+                   Eigen::Matrix3d* H) {
+  if (x1.size() < 4 || x1.size() != x2.size()) return false;
+  return NormalizedDLT(NormalizeCorrespondences(x1, x2), H);
 }
 
 bool Homography4pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eigen::Vector2d>& x2,
@@ -74,7 +78,7 @@ bool Homography4pt(const std::vector<Eigen::Vector2d>& x1, const std::vector<Eig
   const Eigen::PartialPivLU<Eigen::Matrix<double, 8, 8>> lu(A.leftCols<8>());
   const double det = lu.determinant();
   // Relative to the scale of the rows (normalised coordinates are O(1), products O(1) too).
-  if (!(std::abs(det) > 1e-10) || !std::isfinite(det)) return HomographyDLT(x1, x2, H);
+  if (!(std::abs(det) > 1e-10) || !std::isfinite(det)) return NormalizedDLT(n, H);
   Eigen::Matrix<double, 9, 1> h;
   h.head<8>() = lu.solve(-A.col(8));
   h[8] = 1;

@@ -31,8 +31,7 @@ template <int N, typename AddRows>
 bool NullVectorOfRows(size_t count, const AddRows& add_rows, Eigen::Matrix<double, N, 1>* x) {
   Eigen::Matrix<double, N, N> AtA = Eigen::Matrix<double, N, N>::Zero();
   // The lower triangle, element by element: the same sums in the same order as Eigen's
-  // selfadjointView().rankUpdate(row), without its run-time dispatch per row (which took a
-  // quarter of the linear solvers' time).
+  // selfadjointView().rankUpdate(row), without its run-time dispatch per row.
   const auto add = [&AtA](const Eigen::Matrix<double, N, 1>& row) {
     for (int c = 0; c < N; ++c)
       for (int r = c; r < N; ++r) AtA(r, c) += row[r] * row[c];

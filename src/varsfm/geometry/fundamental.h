@@ -33,8 +33,8 @@ Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K1, const Eigen::Matr
 // The squared Sampson distance (H&Z eq. 11.9), the first-order approximation of the squared
 // geometric (reprojection) error, in squared pixels for pixel inputs.
 // Written out in scalars: RANSAC evaluates it for every datum of every hypothesis, and GCC left
-// the Eigen form (F * x1.homogeneous(), ...) as calls, four times slower; the sums are the same,
-// in the same order, so the result is the same to the bit.
+// the Eigen form (F * x1.homogeneous(), ...) as out-of-line calls; the sums are the same, in the
+// same order, so the result is the same to the bit.
 inline double SampsonErrorSquared(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1,
                                   const Eigen::Vector2d& x2) {
   const double u1 = x1.x(), v1 = x1.y(), u2 = x2.x(), v2 = x2.y();

@@ -93,12 +93,13 @@ RobustFit Fit(const MatchedPoints& points, bool homography, const VerificationOp
     // The classic estimators draw from cv::theRNG(), which is per thread: seeding it right
     // before the call makes the result independent of scheduling.
     cv::theRNG().state = seed | 1;
+    const double threshold = InlierThreshold(options, homography);
     model =
         homography
-            ? cv::findHomography(points1, points2, cv::RANSAC, options.homography_max_error,
-                                 fit.inlier_mask, options.max_num_trials, options.confidence)
-            : cv::findFundamentalMat(points1, points2, cv::FM_RANSAC, options.max_error,
-                                     options.confidence, options.max_num_trials, fit.inlier_mask);
+            ? cv::findHomography(points1, points2, cv::RANSAC, threshold, fit.inlier_mask,
+                                 options.max_num_trials, options.confidence)
+            : cv::findFundamentalMat(points1, points2, cv::FM_RANSAC, threshold, options.confidence,
+                                     options.max_num_trials, fit.inlier_mask);
   } else {
     const cv::UsacParams params = MakeUsacParams(options, homography, seed);
     model = homography ? cv::findHomography(points1, points2, fit.inlier_mask, params)

@@ -35,10 +35,9 @@ struct VerificationOptions {
   // Inlier thresholds in pixels: F's on the Sampson distance, H's on the transfer error. F's is
   // tight: on a facade (most matches on one plane) many wrong epipolar geometries fit within a
   // loose one together with the wrong matches along their epipolar lines, and the mapper's
-  // focal lengths follow them (entry-P10, ten seeds: 1.5 px 20.4 mm mean centre error, 1.0 px
-  // 16.8 mm; 0.75 px failed one seed; bench/results/2026-12-04-s14-verification-threshold.md).
-  // H's stays wider: the H / F inlier ratio is the test for planar pairs, which an H judged
-  // tightly fails to flag.
+  // focal lengths follow them. H's stays wider: the H / F inlier ratio is the test for planar
+  // pairs, which an H judged tightly fails to flag (the sweep of both:
+  // bench/results/2026-12-04-s14-verification-threshold.md).
   double max_error = 1.0;
   double homography_max_error = 1.5;
   int min_num_inliers = 15;  // COLMAP's TwoViewGeometryOptions::min_num_inliers
