@@ -82,7 +82,7 @@ MapperSummary IncrementalMapper::Reconstruct(Reconstruction* rec) {
 
 bool IncrementalMapper::InitializeModel(Reconstruction* rec, MapperSummary* summary) {
   // Candidates by the disparity criterion; the first pair whose self-calibration is not
-  // degenerate wins, else the best degenerate one (prior focal).
+  // degenerate wins, else the best degenerate one (prior focal; InitialPairAttempts).
   const auto candidates =
       RankInitialPairs(*rec, graph_, excluded_initial_pairs_, options_.initial_pair);
   if (candidates.empty()) {
@@ -95,17 +95,19 @@ bool IncrementalMapper::InitializeModel(Reconstruction* rec, MapperSummary* summ
   const int trials = std::min<int>(options_.max_initial_pair_trials, candidates.size());
   std::vector<PairGeometry> geometries;
   for (int k = 0; k < trials; ++k) geometries.push_back(EstimatePairGeometry(*rec, candidates[k]));
-  // Pass 1: well-conditioned pairs whose calibration is not flagged; pass 2: any pair.
+  std::vector<bool> usable, well_conditioned;
+  for (const PairGeometry& geometry : geometries) {
+    usable.push_back(geometry.success);
+    well_conditioned.push_back(geometry.well_conditioned);
+  }
   bool initialized = false;
   int initial = -1;
-  for (const bool first_pass : {true, false}) {
-    for (int k = 0; k < trials && !initialized; ++k) {
-      if (!geometries[k].success || (first_pass && !geometries[k].well_conditioned)) continue;
-      *rec = empty;
-      initialized = Initialize(rec, candidates[k], geometries[k],
-                               /*accept_degenerate=*/!first_pass, summary);
-      initial = k;
-    }
+  for (const InitialPairAttempt& attempt : InitialPairAttempts(usable, well_conditioned)) {
+    const int k = attempt.candidate;
+    *rec = empty;
+    initialized = Initialize(rec, candidates[k], geometries[k], attempt.accept_degenerate, summary);
+    initial = k;
+    if (initialized) break;
   }
   if (initialized && summary->initial_focal_from_prior && options_.degenerate_init_focal_search)
     SelectDegenerateFocal(empty, candidates[initial], geometries[initial], rec, summary);

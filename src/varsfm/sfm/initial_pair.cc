@@ -114,4 +114,16 @@ std::string NoInitialPairReason(const CorrespondenceGraph& graph,
       most_matches, options.min_num_matches, num_excluded, num_pairs);
 }
 
+std::vector<InitialPairAttempt> InitialPairAttempts(const std::vector<bool>& usable,
+                                                    const std::vector<bool>& well_conditioned) {
+  std::vector<InitialPairAttempt> attempts;
+  const int n = static_cast<int>(usable.size());
+  for (const bool conditioned : {true, false})
+    for (int k = 0; k < n; ++k)
+      if (usable[k] && well_conditioned[k] == conditioned) attempts.push_back({k, false});
+  for (int k = 0; k < n; ++k)
+    if (usable[k]) attempts.push_back({k, true});
+  return attempts;
+}
+
 }  // namespace varsfm

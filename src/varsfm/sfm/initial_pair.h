@@ -39,6 +39,23 @@ struct InitialPairCandidate {
 bool ClosedFormFocalsWellConditioned(const Eigen::Matrix3d& F, int width1, int height1, int width2,
                                      int height2);
 
+// One try at initialising: candidate `candidate` (an index into RankInitialPairs' list), and
+// whether a degenerate self-calibration is accepted (focal lengths from the prior and a third
+// view; IncrementalMapper::SelectDegenerateFocal).
+struct InitialPairAttempt {
+  int candidate = 0;
+  bool accept_degenerate = false;
+};
+
+// The order in which ranked candidates are tried, the first that initialises winning: those
+// whose closed-form focal lengths are well-conditioned, then the others, each refusing a
+// degenerate calibration (the conditioning is a cheap proxy, the calibration's own tests decide);
+// then every candidate accepting one. A pair whose calibration is degenerate is a last resort
+// even when it ranks first: the model grown from the prior's focal length can settle in another
+// minimum (bench/results/2026-12-04-s15-initial-pair.md). Candidate k takes part when usable[k].
+std::vector<InitialPairAttempt> InitialPairAttempts(const std::vector<bool>& usable,
+                                                    const std::vector<bool>& well_conditioned);
+
 // Candidates sorted by decreasing score. `excluded_pairs` (planar/panoramic pairs) and
 // `registered` images are skipped. Deterministic: ties broken by image ids.
 std::vector<InitialPairCandidate> RankInitialPairs(
