@@ -95,9 +95,12 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--edge-factors", [&](const std::string& text) { edge_factors = parse_list(text); }},
       {"--hole-edges", [&](const std::string& text) { hole_edges = parse_list(text); }},
   };
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = 1; i < argc; i += 2) {
     const auto setter = setters.find(argv[i]);
-    if (setter == setters.end()) throw std::runtime_error(std::string("unknown option ") + argv[i]);
+    if (setter == setters.end())
+      throw std::runtime_error(std::string("unknown option ") + argv[i] +
+                               " (the options are listed at the top of bench/surface_fscore.cc)");
+    if (i + 1 == argc) throw std::runtime_error(std::string(argv[i]) + " needs a value");
     setter->second(argv[i + 1]);
   }
   return a;
