@@ -412,6 +412,8 @@ void AddDensifyCommand(CLI::App* app) {
   AddHoldoutOption(cmd, &options->holdout);
   AddWithDefault(cmd, "--threads", options->dense.num_threads, "threads (0: all cores)");
   AddDenseMethodOptions(cmd, &options->dense);
+  AddWithDefault(cmd, "--seed", options->dense.mvs.seed, "random seed (PatchMatch)")
+      ->check(kNotNegative);
   cmd->callback([options] { varsfm::RunDensify(*options); });
 }
 

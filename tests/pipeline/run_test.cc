@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include <fmt/format.h>
+#include <sqlite3.h>
 #include <nlohmann/json.hpp>
 
 #include "support/test_data.h"
@@ -121,6 +122,41 @@ TEST(RunCommand, IdenticalImagesCannotInitialise) {
   EXPECT_NE(code, 0) << out;
   EXPECT_NE(out.find("varsfm: error:"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(tmp.path() / "out" / "sparse")) << "no model on failure";
+}
+
+// `run --seed` fixes the whole run: matching records it in the workspace and multi-view stereo
+// in dense_summary.json, as the mapper does in its summary.
+TEST(RunCommand, SeedReachesEveryStage) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir tmp("seed");
+  const auto images = tmp.path() / "images";
+  std::filesystem::create_directories(images);
+  for (const char* name : {"kermit000.jpg", "kermit001.jpg", "kermit002.jpg", "kermit003.jpg"})
+    std::filesystem::copy_file(kermit / name, images / name);
+  const auto out = tmp.path() / "out";
+  std::string log;
+  ASSERT_EQ(RunCommand(fmt::format("{} run {} {} --until dense --seed 7 --dense-max-image-size 160",
+                                   ShellQuote(VarsfmBinary()), ShellQuote(images), ShellQuote(out)),
+                       &log),
+            0)
+      << log;
+  EXPECT_EQ(ReadJson(out / "dense_summary.json")["seed"], 7);
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open((out / "workspace.db").c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* query = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db,
+                               "SELECT json_extract(settings, '$.seed') FROM varsfm_settings "
+                               "WHERE stage = 'match'",
+                               -1, &query, nullptr),
+            SQLITE_OK);
+  int rows = 0;
+  while (sqlite3_step(query) == SQLITE_ROW) {
+    EXPECT_EQ(sqlite3_column_int64(query, 0), 7);
+    ++rows;
+  }
+  EXPECT_GT(rows, 0);
+  sqlite3_finalize(query);
+  sqlite3_close(db);
 }
 
 TEST(RunCommand, MissingInputIsAOneLineError) {

@@ -1,5 +1,7 @@
 #include "varsfm/pipeline/densify.h"
 
+#include <cstdint>
+
 #include <nlohmann/json.hpp>
 
 #include "varsfm/io/model_photo.h"
@@ -16,12 +18,13 @@
 namespace varsfm {
 namespace {
 
-void WriteSummary(const std::filesystem::path& file, const DensifySummary& r,
+void WriteSummary(const std::filesystem::path& file, const DensifySummary& r, uint64_t seed,
                   double seconds_check) {
   const DensifyStats& st = r.stats;
   const nlohmann::json summary = {
       {"points", r.num_points},
       {"method", NameOf(kDenseMethodNames, r.method)},
+      {"seed", seed},
       {"depth_maps", st.mvs.num_views},
       {"depths", st.mvs.num_depths},
       {"consistent_depths", st.mvs.num_consistent},
@@ -110,7 +113,8 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
       "{:.4f} (x median scene depth {:.3g}; {:.1f} % within 1 %)",
       result.quality.median_nearest, result.quality.median_plane, result.quality.scene_depth,
       100 * result.quality.fraction_within_1pc);
-  WriteSummary(options.output / "dense_summary.json", result, seconds_check);
+  WriteSummary(options.output / "dense_summary.json", result, options.dense.mvs.seed,
+               seconds_check);
   info("densify: wrote {} points to {} in {:.1f} s", result.num_points,
        (options.output / "dense.ply").string(), result.seconds);
   return result;

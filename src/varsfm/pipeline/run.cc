@@ -42,6 +42,7 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   MatchOptions match = options.match;
   match.workspace = workspace;
   match.strategy = options.matching;
+  match.seed = options.map.mapper.seed;
   if (video && match.strategy == MatchStrategy::kAuto) match.strategy = MatchStrategy::kSequential;
   *strategy = RunMatching(match, OptionsCheck::kDoneByCaller).strategy;
   result->seconds_match = timer.Seconds();
@@ -108,6 +109,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
     densify.image_dir = image_dir;
     densify.output = options.output;
     densify.dense = options.dense;
+    densify.dense.mvs.seed = options.map.mapper.seed;
     densify.holdout = options.holdout;
     result.seconds_densify = RunDensify(densify, OptionsCheck::kDoneByCaller).seconds;
     add_seconds("densify", result.seconds_densify);

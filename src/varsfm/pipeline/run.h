@@ -34,9 +34,11 @@ struct RunOptions {
   std::filesystem::path output;  // OUT
   // kAuto: sequential for video; else as MatchStrategy::kAuto says (retrieval for many images).
   MatchStrategy matching = MatchStrategy::kAuto;
-  ExtractOptions extract;               // workspace / image_dir / video are filled in by RunAll
-  MatchOptions match;                   // workspace / strategy filled in
-  MapOptions map;                       // workspace / output / image_dir filled in
+  ExtractOptions extract;  // workspace / image_dir / video are filled in by RunAll
+  MatchOptions match;      // workspace / strategy filled in
+  // workspace / output / image_dir filled in. Its mapper's seed seeds every stage: RunAll
+  // gives it to matching and multi-view stereo too (`run --seed`), so one number fixes the run.
+  MapOptions map;
   RunStage until = RunStage::kTexture;  // the last stage run
   DenseReconstructionOptions dense;
   SurfaceOptions surface;
