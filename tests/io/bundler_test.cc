@@ -102,9 +102,9 @@ TEST(Bundler, FileStructureAndProjectionConvention) {
   EXPECT_EQ(num_views_checked, rec.NumObservations());
 }
 
-// The warning about what Bundler's format cannot hold names bundle.out, not the temporary file
+// The message about what Bundler's format cannot hold names bundle.out, not the temporary file
 // it is written to first.
-TEST(Bundler, WarningNamesTheFinalFile) {
+TEST(Bundler, ApproximationMessageNamesTheFinalFile) {
   SyntheticOptions o;
   o.num_images = 3;
   o.num_points = 50;

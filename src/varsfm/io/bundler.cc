@@ -37,7 +37,7 @@ void WriteBundle(const Reconstruction& rec, std::ostream& out, const fs::path& f
 
   out << "# Bundle file v0.3\n" << fmt::format("{} {}\n", index.size(), rec.points3D().size());
   const Eigen::Matrix3d D = Eigen::Vector3d(1, -1, -1).asDiagonal();
-  size_t num_dropped = 0;
+  size_t num_approximated = 0;
   double worst_deviation = 0.0;
   for (const auto& [id, image] : rec.images()) {
     if (!image.registered) {  // Bundler's marker of a camera it did not estimate
@@ -46,7 +46,7 @@ void WriteBundle(const Reconstruction& rec, std::ostream& out, const fs::path& f
     }
     const Camera& camera = rec.camera(image.camera_id);
     if (const double deviation = BundlerModelDeviation(camera); deviation > 0.5) {
-      ++num_dropped;
+      ++num_approximated;
       worst_deviation = std::max(worst_deviation, deviation);
     }
     const Eigen::Matrix3d R = D * image.cam_from_world.R();
@@ -56,11 +56,13 @@ void WriteBundle(const Reconstruction& rec, std::ostream& out, const fs::path& f
     for (int r = 0; r < 3; ++r) out << fmt::format("{} {} {}\n", R(r, 0), R(r, 1), R(r, 2));
     out << fmt::format("{} {} {}\n", t.x(), t.y(), t.z());
   }
-  if (num_dropped > 0)
-    warn(
+  // Information, not a warning: with the default intrinsics (a principal point estimated per
+  // image size) nearly every model has an offset, and the COLMAP model beside it is exact.
+  if (num_approximated > 0)
+    info(
         "{}: {} cameras have an aspect ratio, skew or principal point offset (up to {:.1f} px) "
-        "that Bundler's format cannot hold; they are dropped there (the COLMAP model keeps them)",
-        file.string(), num_dropped, worst_deviation);
+        "that Bundler's format cannot hold; written without it (the COLMAP model is exact)",
+        file.string(), num_approximated, worst_deviation);
   fmt::memory_buffer buffer;  // one line at a time: see WriteImagesText (colmap_model.cc)
   for (const auto& [id, point] : rec.points3D()) {
     buffer.clear();

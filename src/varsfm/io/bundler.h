@@ -5,8 +5,8 @@
 //    D = diag(1, -1, -1); projection p = -(P.x, P.y) / P.z, then f (1 + k1 |p|^2 + k2 |p|^4) p;
 //  - image points relative to the image centre with y up: (u - w/2, h/2 - v) in varsfm pixels;
 //  - one focal length and the principal point at the image centre: cameras with aspect != 1,
-//    skew or an offset principal point are written anyway, with a warning (Bundler cannot hold
-//    them, so their points reproject off by that offset).
+//    skew or an offset principal point are written anyway, and the log says so (Bundler cannot
+//    hold them, so their points reproject off by that offset).
 #include <filesystem>
 
 #include "varsfm/scene/reconstruction.h"
