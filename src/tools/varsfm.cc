@@ -355,6 +355,8 @@ void AddRunCommand(CLI::App* app) {
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
                  "mesh stage: decimate to at most this many faces (0: keep all)");
   AddMapperOptions(cmd, &options->map);
+  cmd->get_option("--seed")->description(
+      "random seed of every stage (matching, mapping, multi-view stereo)");
   cmd->callback([options] { varsfm::RunAll(*options); });
 }
 
