@@ -2,6 +2,7 @@
 // one is one line on stderr and exit code 2 (a usage error), before any file is touched; other
 // failures one line and exit code 1; --help the full help.
 #include <algorithm>
+#include <fstream>
 #include <string>
 
 #include <fmt/format.h>
@@ -105,6 +106,15 @@ TEST_F(CommandLineErrors, RunWithABadOptionCreatesNothing) {
       RunVarsfm(fmt::format("run {} {} --threads -3", ShellQuote(tmp_.path()), ShellQuote(out))), 2,
       "--threads: expected an integer >= 0, got -3");
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// An output folder that cannot be created (here: under a file) is named in a one-line error.
+TEST_F(CommandLineErrors, OutputThatCannotBeCreatedIsAOneLineError) {
+  const auto file = tmp_.path() / "file";
+  std::ofstream(file) << "x";
+  ExpectOneLineError(
+      RunVarsfm(fmt::format("run {} {}", ShellQuote(tmp_.path()), ShellQuote(file / "out"))), 1,
+      (file / "out").string() + ": cannot create");
 }
 
 TEST_F(CommandLineErrors, HelpIsTheFullHelp) {

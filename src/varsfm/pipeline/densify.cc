@@ -12,6 +12,7 @@
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
@@ -100,7 +101,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
-  std::filesystem::create_directories(options.output);
+  CreateFolder(options.output);
   WritePly(options.output / "dense.ply", cloud);
   WritePointVisibility(options.output / "dense.ply.vis", visibility);
   result.num_points = cloud.points.size();

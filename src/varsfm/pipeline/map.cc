@@ -15,6 +15,7 @@
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
@@ -281,7 +282,7 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
   // each rename their own files into it (WriteFilesAtomically) rather than race to rename a
   // whole folder there.
   RemoveOutputsOfEarlierModel(options.output);
-  std::filesystem::create_directories(sparse);
+  CreateFolder(sparse);
   std::future<void> text =
       std::async(std::launch::async, [&] { WriteColmapModel(rec, sparse, {.binary = false}); });
   std::future<void> bundler = std::async(std::launch::async, [&] {

@@ -6,6 +6,7 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -23,9 +24,7 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   } catch (const Error& e) {
     Fail("{}: {}", options.input.string(), e.what());
   }
-  std::error_code ec;
-  std::filesystem::create_directories(options.output, ec);
-  if (ec) Fail("{}: cannot create ({})", options.output.string(), ec.message());
+  CreateFolder(options.output);
   WriteMeshPly(options.output / "mesh.ply", mesh);
 
   result.num_vertices = mesh.vertices.size();

@@ -14,6 +14,7 @@
 #include "varsfm/texture/render.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
@@ -58,7 +59,7 @@ nlohmann::json ToJson(const RenderEvaluationMeans& means) {
 }
 
 void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  if (file.has_parent_path()) CreateFolder(file.parent_path());
   WriteImage(file, image);
 }
 

@@ -7,6 +7,7 @@
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -70,7 +71,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   const bool created_output = !fs::exists(options.output);
-  fs::create_directories(options.output);
+  CreateFolder(options.output);
 
   RunSummary result;
   MatchStrategy strategy = options.matching;

@@ -8,6 +8,14 @@
 
 namespace varsfm {
 
+void CreateFolder(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) Fail("{}: cannot create ({})", dir.string(), ec.message());
+  if (!fs::is_directory(dir, ec)) Fail("{} exists and is not a folder", dir.string());
+}
+
 void WriteNewFolder(const std::filesystem::path& dir,
                     const std::function<void(const std::filesystem::path&)>& write) {
   namespace fs = std::filesystem;
@@ -19,8 +27,7 @@ void WriteNewFolder(const std::filesystem::path& dir,
     }
   }
   const fs::path parent = fs::absolute(dir).parent_path();
-  fs::create_directories(parent, ec);
-  if (ec) Fail("{}: cannot create ({})", parent.string(), ec.message());
+  CreateFolder(parent);
   const fs::path tmp =
       parent / fmt::format(".{}.partial-{}", fs::absolute(dir).filename().string(), ::getpid());
   fs::remove_all(tmp, ec);

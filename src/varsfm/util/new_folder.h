@@ -8,6 +8,11 @@
 
 namespace varsfm {
 
+// Creates `dir` and any missing parents (nothing when it exists as a folder). Throws
+// varsfm::Error, one line naming `dir`, when it cannot: a stage's output folder under a path
+// the user cannot write gets a clear error, not a raw filesystem exception.
+void CreateFolder(const std::filesystem::path& dir);
+
 // Calls `write` with the temporary folder, then renames it to `dir`. `dir` must not exist, or be
 // an empty folder (it is then replaced). Throws varsfm::Error (one line naming `dir`) when `dir`
 // holds anything, its parent cannot be written, or the rename fails; the temporary folder is
