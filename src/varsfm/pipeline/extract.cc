@@ -20,6 +20,7 @@
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
@@ -373,10 +374,8 @@ ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) 
   }
   if (!first_image) Fail("no readable image in {}", input.dir.string());
 
+  if (!options.workspace.parent_path().empty()) CreateFolder(options.workspace.parent_path());
   std::error_code ec;
-  if (!options.workspace.parent_path().empty()) {
-    fs::create_directories(options.workspace.parent_path(), ec);
-  }
   const bool created = !fs::exists(options.workspace, ec);
   try {
     Database db(options.workspace);
