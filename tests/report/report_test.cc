@@ -286,6 +286,39 @@ TEST(Report, WithoutThreeJsThePageSaysWhatToInstall) {
   EXPECT_NE(html.find("Focal length per image"), std::string::npos);  // the rest is there
 }
 
+// A run with --holdout records how the textured model renders the photos; the report shows
+// the held-out and source means and a row per image, and has no such section without them.
+TEST(Report, HeldOutRendersAreShownWhenTheRunScoredThem) {
+  TempDir tmp("report_renders");
+  WriteSyntheticOutput(tmp.path(), {.with_glb = false});
+  EXPECT_EQ(ReadText(WriteReport({.output = tmp.path()}).file).find("id=\"renders\""),
+            std::string::npos);
+  nlohmann::json summary = nlohmann::json::parse(ReadText(tmp.path() / "summary.json"));
+  summary["renders"] = {
+      {"held_out",
+       {{"images", 1}, {"mean_psnr_db", 27.125}, {"mean_ssim", 0.9}, {"mean_coverage", 0.8}}},
+      {"source",
+       {{"images", 1}, {"mean_psnr_db", 30.5}, {"mean_ssim", 0.95}, {"mean_coverage", 0.9}}},
+      {"images",
+       {{{"name", "a.png"},
+         {"held_out", true},
+         {"psnr_db", 27.125},
+         {"ssim", 0.9},
+         {"coverage", 0.8}},
+        {{"name", "b.png"},
+         {"held_out", false},
+         {"psnr_db", 30.5},
+         {"ssim", 0.95},
+         {"coverage", 0.9}}}}};
+  std::ofstream(tmp.path() / "summary.json") << summary.dump();
+  const std::string html = ReadText(WriteReport({.output = tmp.path()}).file);
+  EXPECT_NE(html.find("id=\"renders\""), std::string::npos);
+  EXPECT_NE(html.find("27.12 dB"), std::string::npos) << "the held-out mean";
+  EXPECT_NE(html.find("Held-out views (1)"), std::string::npos);
+  EXPECT_NE(html.find("<td>a.png</td><td>held out</td><td>27.12</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>b.png</td><td>source</td><td>30.50</td>"), std::string::npos);
+}
+
 TEST(Report, OptionsAreChecked) {
   EXPECT_THROW(ReportOptions{}.Check(), OptionError);
   ReportOptions options{.output = "x"};

@@ -62,6 +62,9 @@ table.images th, table.images td { border-bottom: 1px solid var(--line); padding
 table.images td:nth-child(3), table.images th:nth-child(3) { text-align: left; }
 table.images img { display: block; max-width: 160px; height: auto; }
 table.images tr[data-image] { cursor: pointer; }
+table.renders { width: auto; margin-top: 8px; }
+table.renders td:first-child, table.renders th:first-child { text-align: left; }
+table.renders td:nth-child(3), table.renders th:nth-child(3) { text-align: right; }
 table.images tr.selected { background: #fff6c8; }
 .swatch { display: inline-block; width: 10px; height: 10px; border-radius: 2px;
           margin-right: 5px; }
@@ -110,6 +113,7 @@ std::string ReportHtml(const ReportData& data, const std::optional<ThreeJs>& thr
   html += SummarySection(data, charts) + "\n";
   html += OverviewSection(data, charts, three) + "\n";
   html += FiguresSection(charts) + "\n";
+  html += RendersSection(data) + "\n";
   html += ImagesSection(data) + "\n";
   if (three) {
     html += "<script type=\"application/json\" id=\"varsfm-scene\">" +

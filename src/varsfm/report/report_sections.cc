@@ -144,6 +144,56 @@ std::string FiguresSection(const ReportCharts& charts) {
   return html;
 }
 
+namespace {
+
+// "28.44 dB", its SSIM and coverage as a card's value and note; `means` is one of the renders'
+// "held_out" / "source" objects.
+std::string RenderMeansCard(const std::string& label, const nlohmann::json& means,
+                            const std::string& what) {
+  const int images = means.value("images", 0);
+  if (images == 0) return "";
+  return Card(
+      fmt::format("{} ({})", label, images),
+      fmt::format("{:.2f} dB", means.value("mean_psnr_db", 0.0)),
+      fmt::format("SSIM {:.3f}, covers {:.1f} % of the photos; {}", means.value("mean_ssim", 0.0),
+                  100 * means.value("mean_coverage", 0.0), what));
+}
+
+}  // namespace
+
+std::string RendersSection(const ReportData& data) {
+  if (!data.summary.contains("renders") || !data.summary["renders"].is_object()) return "";
+  const nlohmann::json& renders = data.summary["renders"];
+  std::string html =
+      "<section id=\"renders\"><h2>The textured model seen from the photos' cameras</h2>"
+      "<div class=\"cards\">";
+  if (renders.contains("held_out"))
+    html +=
+        RenderMeansCard("Held-out views", renders["held_out"], "kept out of densify and texture");
+  if (renders.contains("source"))
+    html += RenderMeansCard("Source views", renders["source"], "the texture comes from them");
+  html += "</div>";
+  std::string rows;
+  for (const nlohmann::json& image : renders.value("images", nlohmann::json::array())) {
+    if (!image.is_object()) continue;
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{:.2f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>",
+        EscapeHtml(image.value("name", std::string())),
+        image.value("held_out", false) ? "held out" : "source", image.value("psnr_db", 0.0),
+        image.value("ssim", 0.0), 100 * image.value("coverage", 0.0));
+  }
+  if (!rows.empty())
+    html +=
+        "<table class=\"images renders\"><thead><tr><th>image</th><th>view</th><th>PSNR (dB)</th>"
+        "<th>SSIM</th><th>coverage (%)</th></tr></thead><tbody>" +
+        rows + "</tbody></table>";
+  return html +
+         "<p class=\"hint\">Each registered camera renders the textured model, compared with its "
+         "photo over the pixels the model covers. Held-out photos took part in structure from "
+         "motion only, so their figures say how the model looks from a new viewpoint; source "
+         "views flatter, their texture was cut from those very photos.</p></section>";
+}
+
 std::string ImagesSection(const ReportData& data) {
   const std::vector<std::string> colors = FocalColors(data);
   const double shortest = FocalRange(data).first;

@@ -19,6 +19,11 @@ std::string OverviewSection(const ReportData& data, const ReportCharts& charts,
 // Distortion, principal point, reprojection error, points per image, histograms, match matrix.
 std::string FiguresSection(const ReportCharts& charts);
 
+// The textured model rendered from the registered cameras and compared with the photos
+// (summary.json's "renders", written by `run --holdout N`): held-out and source views' means and
+// one row per image. Empty when the run scored no renders.
+std::string RendersSection(const ReportData& data);
+
 // One row per image with its thumbnail and figures; unregistered images with the reason.
 std::string ImagesSection(const ReportData& data);
 
