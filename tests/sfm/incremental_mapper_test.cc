@@ -185,6 +185,44 @@ TEST(IncrementalMapper, DegenerateInitialPairTakesItsFocalFromAThirdView) {
     EXPECT_NEAR(in.reconstruction.camera(image.camera_id).focal() / 800, 1.0, 0.01) << id;
 }
 
+// Photos of other sizes in one capture (another phone, a resized copy): two of the twelve are
+// half-size. A new image starts from a registered neighbour's intrinsics, but not from its
+// principal point when the sizes differ: two images of a size form no group (min_images_to_share
+// is 3), so a borrowed principal point would stay, a quarter of the image off its centre.
+TEST(IncrementalMapper, AnImageOfAnotherSizeKeepsItsOwnPrincipalPoint) {
+  SyntheticOptions o = ZoomingOrbit();
+  o.structure = SyntheticOptions::Structure::kFacade;
+  SyntheticScene scene = GenerateSyntheticScene(o);
+  const std::vector<int> half_size = {4, 9};
+  for (const int i : half_size) {
+    Camera& truth = scene.cameras[i];
+    truth.width /= 2;
+    truth.height /= 2;
+    truth.focal() *= 0.5;
+    truth.params[Camera::kU0] *= 0.5;
+    truth.params[Camera::kV0] *= 0.5;
+    for (auto& obs : scene.observations[i]) obs.pixel *= 0.5, obs.true_pixel *= 0.5;
+  }
+  MapperInput in = MakeInput(scene);
+  const MapperSummary summary =
+      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  ASSERT_TRUE(summary.success) << summary.message;
+  const Reconstruction& rec = in.reconstruction;
+  EXPECT_EQ(rec.NumRegisteredImages(), 12u);
+  for (int i = 0; i < scene.NumImages(); ++i) {
+    const Image& image = rec.image(i + 1);
+    ASSERT_TRUE(image.registered) << "image " << i;
+    const Camera& camera = rec.camera(image.camera_id);
+    const Camera& truth = scene.cameras[i];
+    EXPECT_NEAR(camera.params[Camera::kU0], truth.params[Camera::kU0], 0.02 * truth.width)
+        << "image " << i;
+    EXPECT_NEAR(camera.params[Camera::kV0], truth.params[Camera::kV0], 0.02 * truth.height)
+        << "image " << i;
+    EXPECT_NEAR(camera.focal() / truth.focal(), 1.0, 0.01) << "image " << i;
+  }
+  EXPECT_LT(rec.RmsReprojectionError(), 0.75);
+}
+
 TEST(IncrementalMapper, PureRotationCannotInitialise) {
   SyntheticOptions o = ZoomingOrbit();
   o.path = SyntheticOptions::Path::kPureRotation;

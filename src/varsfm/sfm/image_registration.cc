@@ -91,9 +91,9 @@ struct RegistrationProblem {
   std::vector<Eigen::Vector2d> x;  // the correspondences' 2D points
   std::vector<Eigen::Vector3d> X;  // and their 3D points
   Camera camera;                   // the image's camera as it is
-  // The camera of the registered image this one shares most points with: the starting value
-  // when the DLT's K is implausible (zoom changes slowly along a capture).
-  Camera neighbour_camera;
+  // Where the hypotheses' intrinsics start (StartingCamera): the camera itself when a registered
+  // image uses it, else the neighbour's intrinsics (zoom changes slowly along a capture).
+  Camera start_camera;
   bool camera_registered;  // a registered image uses the camera: its intrinsics are held
   AbsolutePoseRefinementOptions refine;
 };
@@ -125,19 +125,18 @@ void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
   Eigen::Matrix3d K, R;
   Eigen::Vector3d t;
   if (!DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) return;
-  Hypothesis h{p.camera_registered ? p.camera : p.neighbour_camera, Rigid3d(R, t), 0};
+  Hypothesis h{p.start_camera, Rigid3d(R, t), 0};
   if (!p.camera_registered && PlausibleCalibration(p.options, K, p.camera)) {
     // Keep the held parameters at their initial values (policy), take the rest from K.
     Camera from_dlt = p.camera;
-    from_dlt.params[Camera::kK1] = p.neighbour_camera.params[Camera::kK1];
-    from_dlt.params[Camera::kK2] = p.neighbour_camera.params[Camera::kK2];
+    from_dlt.params[Camera::kK1] = p.start_camera.params[Camera::kK1];
+    from_dlt.params[Camera::kK2] = p.start_camera.params[Camera::kK2];
     from_dlt.focal() = 0.5 * (K(0, 0) + K(1, 1));
     if (p.intrinsics.refine_aspect) from_dlt.params[Camera::kAspect] = K(1, 1) / K(0, 0);
     if (p.intrinsics.refine_skew) from_dlt.params[Camera::kSkew] = K(0, 1);
-    // Parameters shared per image size start from the group's current values.
-    if (p.neighbour_camera.width == p.camera.width && p.neighbour_camera.height == p.camera.height)
-      for (const int i : p.intrinsics.SharedPerSize())
-        from_dlt.params[i] = p.neighbour_camera.params[i];
+    // Parameters shared per image size start from the group's current values (the neighbour's
+    // when it has this size; StartingCamera keeps the image's own otherwise).
+    for (const int i : p.intrinsics.SharedPerSize()) from_dlt.params[i] = p.start_camera.params[i];
     if (p.intrinsics.refine_principal_point) {
       from_dlt.params[Camera::kU0] = K(0, 2);
       from_dlt.params[Camera::kV0] = K(1, 2);
@@ -151,7 +150,7 @@ void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
 // ill-posed): LO-RANSAC around P3P on normalised coordinates, then the same refinement frees
 // the focal length.
 void AddPnpHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out) {
-  const Camera start = p.camera_registered ? p.camera : p.neighbour_camera;
+  const Camera& start = p.start_camera;
   std::vector<Eigen::Vector2d> normalized;
   normalized.reserve(p.x.size());
   for (const Eigen::Vector2d& x : p.x) normalized.push_back(start.ImageToNormalized(x));
@@ -164,6 +163,27 @@ void AddPnpHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
   const auto report = Ransac(AbsolutePoseEstimator{normalized, p.X}, ransac);
   if (!report.success) return;
   RefineAndScore(p, {start, report.model, 0}, out);
+}
+
+// The intrinsics a new image's hypotheses start from: its registered neighbour's when the two
+// images have the same size. Another size (another phone, a resized copy) keeps the image's own
+// principal point, aspect and skew, and takes the neighbour's focal length scaled by the ratio
+// of the larger sides (the same field of view) and its k1, k2 (on normalised coordinates, so
+// independent of the resolution). A principal point taken from a photo of another size would lie
+// off this one's centre by the difference of the two, and a size with fewer images than the
+// adjustments' min_images_to_share would keep it.
+Camera StartingCamera(const Camera& camera, const Camera& neighbour) {
+  if (neighbour.width == camera.width && neighbour.height == camera.height) {
+    Camera start = neighbour;
+    start.camera_id = camera.camera_id;
+    return start;
+  }
+  Camera start = camera;
+  start.focal() = neighbour.focal() * std::max(camera.width, camera.height) /
+                  std::max(neighbour.width, neighbour.height);
+  start.params[Camera::kK1] = neighbour.params[Camera::kK1];
+  start.params[Camera::kK2] = neighbour.params[Camera::kK2];
+  return start;
 }
 
 // The registered image that shares the most 3D points with the correspondences (the most
@@ -201,7 +221,10 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
       .x = {},
       .X = {},
       .camera = camera,
-      .neighbour_camera = rec->CameraOf(Neighbour(*rec, corrs, registration_order)),
+      .start_camera =
+          camera_registered
+              ? camera
+              : StartingCamera(camera, rec->CameraOf(Neighbour(*rec, corrs, registration_order))),
       .camera_registered = camera_registered,
       .refine = {}};
   for (const auto& c : corrs) {
