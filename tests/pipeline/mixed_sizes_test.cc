@@ -1,0 +1,78 @@
+// The whole sparse chain on real photos of several sizes in one set (another phone, resized or
+// rotated copies): each photo's focal length must follow its size, and its principal point stay
+// near its own centre, as if the photos had one size.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <string>
+
+#include <fmt/format.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "support/test_data.h"
+#include "varsfm/io/colmap_model.h"
+
+namespace varsfm {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RunCommand;
+using testing::ShellQuote;
+using testing::TempDir;
+using testing::VarsfmBinary;
+
+// Focal length of every registered image of OUT/sparse/0 by name.
+std::map<std::string, Camera> CamerasByName(const fs::path& out) {
+  const Reconstruction rec = ReadColmapModel(out / "sparse" / "0");
+  std::map<std::string, Camera> cameras;
+  for (const auto& [id, image] : rec.images())
+    if (image.registered) cameras[image.name] = rec.camera(image.camera_id);
+  return cameras;
+}
+
+void RunSparse(const fs::path& images, const fs::path& out) {
+  std::string log;
+  ASSERT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(images), ShellQuote(out)),
+                       &log),
+            0)
+      << log;
+}
+
+TEST(RunCommand, PhotosOfSeveralSizesGetTheirOwnIntrinsics) {
+  VARSFM_REQUIRE_SHARED_DATA(et, "bundler/ET");
+  TempDir tmp("mixed_sizes");
+  const fs::path mixed = tmp.path() / "mixed";
+  fs::create_directories(mixed);
+  // Every third photo turned to portrait, the others resized by 0.5 .. 0.8: five sizes.
+  std::map<std::string, double> scale;
+  for (int i = 0; i < 9; ++i) {
+    const std::string name = fmt::format("et{:03d}.jpg", i);
+    cv::Mat image = cv::imread((et / name).string(), cv::IMREAD_COLOR);
+    ASSERT_FALSE(image.empty()) << name;
+    scale[name] = i % 3 == 0 ? 1.0 : 0.5 + 0.1 * (i % 4);
+    if (i % 3 == 0)
+      cv::rotate(image, image, cv::ROTATE_90_CLOCKWISE);
+    else
+      cv::resize(image, image, cv::Size(), scale[name], scale[name], cv::INTER_AREA);
+    ASSERT_TRUE(cv::imwrite((mixed / name).string(), image)) << name;
+  }
+  RunSparse(et, tmp.path() / "original");
+  RunSparse(mixed, tmp.path() / "mixed_out");
+  const auto original = CamerasByName(tmp.path() / "original");
+  const auto estimated = CamerasByName(tmp.path() / "mixed_out");
+  EXPECT_EQ(estimated.size(), 9u);
+  for (const auto& [name, camera] : estimated) {
+    ASSERT_TRUE(original.count(name)) << name;
+    EXPECT_NEAR(camera.focal() / (original.at(name).focal() * scale.at(name)), 1.0, 0.03) << name;
+    const double side = std::max(camera.width, camera.height);
+    EXPECT_NEAR(camera.params[Camera::kU0], 0.5 * camera.width, 0.02 * side) << name;
+    EXPECT_NEAR(camera.params[Camera::kV0], 0.5 * camera.height, 0.02 * side) << name;
+  }
+}
+
+}  // namespace
+}  // namespace varsfm
