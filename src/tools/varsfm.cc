@@ -243,7 +243,7 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
             "one of Ceres' (Schur complement each)");
   AddChoice(cmd, "--intrinsics", &in.sharing, ChoicesOf(varsfm::kIntrinsicsSharingNames),
             "every image its own camera, the focal length per image and the rest one set per "
-            "image size, or one camera");
+            "image size, or one camera (per image size)");
 }
 
 // extract: photos or a video's keyframes -> cameras, images and SIFT features.

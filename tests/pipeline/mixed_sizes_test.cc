@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <string>
 
 #include <fmt/format.h>
@@ -24,7 +25,7 @@ using testing::ShellQuote;
 using testing::TempDir;
 using testing::VarsfmBinary;
 
-// Focal length of every registered image of OUT/sparse/0 by name.
+// The camera of every registered image of OUT/sparse/0, by image name.
 std::map<std::string, Camera> CamerasByName(const fs::path& out) {
   const Reconstruction rec = ReadColmapModel(out / "sparse" / "0");
   std::map<std::string, Camera> cameras;
@@ -33,10 +34,10 @@ std::map<std::string, Camera> CamerasByName(const fs::path& out) {
   return cameras;
 }
 
-void RunSparse(const fs::path& images, const fs::path& out) {
+void RunSparse(const fs::path& images, const fs::path& out, const std::string& args = "") {
   std::string log;
-  ASSERT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
-                                   ShellQuote(images), ShellQuote(out)),
+  ASSERT_EQ(RunCommand(fmt::format("{} run {} {} --until sparse {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(images), ShellQuote(out), args),
                        &log),
             0)
       << log;
@@ -61,16 +62,25 @@ TEST(RunCommand, PhotosOfSeveralSizesGetTheirOwnIntrinsics) {
     ASSERT_TRUE(cv::imwrite((mixed / name).string(), image)) << name;
   }
   RunSparse(et, tmp.path() / "original");
-  RunSparse(mixed, tmp.path() / "mixed_out");
   const auto original = CamerasByName(tmp.path() / "original");
-  const auto estimated = CamerasByName(tmp.path() / "mixed_out");
-  EXPECT_EQ(estimated.size(), 9u);
-  for (const auto& [name, camera] : estimated) {
-    ASSERT_TRUE(original.count(name)) << name;
-    EXPECT_NEAR(camera.focal() / (original.at(name).focal() * scale.at(name)), 1.0, 0.03) << name;
-    const double side = std::max(camera.width, camera.height);
-    EXPECT_NEAR(camera.params[Camera::kU0], 0.5 * camera.width, 0.02 * side) << name;
-    EXPECT_NEAR(camera.params[Camera::kV0], 0.5 * camera.height, 0.02 * side) << name;
+  // Per-image intrinsics (the default), and one camera per size (`--intrinsics shared`: photos
+  // of another size cannot share one).
+  for (const std::string args : {"", "--intrinsics shared"}) {
+    SCOPED_TRACE(args);
+    const fs::path out = tmp.path() / (args.empty() ? "per_image" : "shared");
+    RunSparse(mixed, out, args);
+    const auto estimated = CamerasByName(out);
+    EXPECT_EQ(estimated.size(), 9u);
+    std::set<camera_t> cameras;
+    for (const auto& [name, camera] : estimated) {
+      ASSERT_TRUE(original.count(name)) << name;
+      EXPECT_NEAR(camera.focal() / (original.at(name).focal() * scale.at(name)), 1.0, 0.03) << name;
+      const double side = std::max(camera.width, camera.height);
+      EXPECT_NEAR(camera.params[Camera::kU0], 0.5 * camera.width, 0.02 * side) << name;
+      EXPECT_NEAR(camera.params[Camera::kV0], 0.5 * camera.height, 0.02 * side) << name;
+      cameras.insert(camera.camera_id);
+    }
+    EXPECT_EQ(cameras.size(), args.empty() ? 9u : 5u) << "cameras: one per image or per size";
   }
 }
 

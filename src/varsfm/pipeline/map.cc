@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <future>
+#include <map>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -36,7 +37,10 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
   Database db(options.workspace);
   LoadedWorkspace ws;
   Reconstruction& rec = ws.reconstruction;
-  std::optional<Camera> shared_camera;
+  // kShared: one camera per image size. Photos of another size cannot share a camera (its
+  // principal point and focal length in pixels are the size's), as COLMAP's single camera
+  // requires one size.
+  std::map<std::pair<int, int>, camera_t> shared_cameras;
   for (const DbImage& db_image : db.ReadAllImages()) {
     if (!db.ExistsKeypoints(db_image.image_id)) continue;
     const auto db_camera = db.ReadCamera(db_image.camera_id);
@@ -48,11 +52,10 @@ LoadedWorkspace LoadWorkspace(const MapOptions& options) {
                                      db_camera->height);
     camera.camera_id = db_image.image_id;
     if (options.mapper.intrinsics.sharing == IntrinsicsSharing::kShared) {
-      if (!shared_camera) {
-        shared_camera = camera;
-        rec.AddCamera(camera);
-      }
-      camera.camera_id = shared_camera->camera_id;
+      const auto [it, first] =
+          shared_cameras.emplace(std::make_pair(camera.width, camera.height), camera.camera_id);
+      if (first) rec.AddCamera(camera);
+      camera.camera_id = it->second;
     } else {
       rec.AddCamera(camera);
     }

@@ -13,8 +13,8 @@ namespace varsfm {
 // Which images share which intrinsics.
 enum class IntrinsicsSharing {
   kPerImage,       // every image its own camera (the paper; default)
-  kShared,         // one camera for all images (a fixed-zoom capture): the workspace's images
-                   // point at one camera when they are loaded (pipeline/map.cc)
+  kShared,         // one camera for all images of a size (a fixed-zoom capture): the workspace's
+                   // images point at one camera per size when they are loaded (pipeline/map.cc)
   kFocalPerImage,  // focal length per image; aspect, skew, principal point and k1, k2 one set
                    // per image size (a zoom lens on one body), estimated in the global adjustments
 };
