@@ -63,11 +63,12 @@ TEST(RunCommand, PhotosOfSeveralSizesGetTheirOwnIntrinsics) {
   }
   RunSparse(et, tmp.path() / "original");
   const auto original = CamerasByName(tmp.path() / "original");
-  // Per-image intrinsics (the default), and one camera per size (`--intrinsics shared`: photos
-  // of another size cannot share one).
-  for (const std::string args : {"", "--intrinsics shared"}) {
+  // Per-image intrinsics (the default); the focal length per image and the rest per size, where
+  // a size of one or two photos forms no group; one camera per size (`--intrinsics shared`:
+  // photos of another size cannot share one).
+  for (const std::string args : {"", "--intrinsics focal-per-image", "--intrinsics shared"}) {
     SCOPED_TRACE(args);
-    const fs::path out = tmp.path() / (args.empty() ? "per_image" : "shared");
+    const fs::path out = tmp.path() / (args.empty() ? "default" : args.substr(13));
     RunSparse(mixed, out, args);
     const auto estimated = CamerasByName(out);
     EXPECT_EQ(estimated.size(), 9u);
@@ -80,7 +81,8 @@ TEST(RunCommand, PhotosOfSeveralSizesGetTheirOwnIntrinsics) {
       EXPECT_NEAR(camera.params[Camera::kV0], 0.5 * camera.height, 0.02 * side) << name;
       cameras.insert(camera.camera_id);
     }
-    EXPECT_EQ(cameras.size(), args.empty() ? 9u : 5u) << "cameras: one per image or per size";
+    EXPECT_EQ(cameras.size(), args == "--intrinsics shared" ? 5u : 9u)
+        << "cameras: one per image or per size";
   }
 }
 

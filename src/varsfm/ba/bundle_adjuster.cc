@@ -660,13 +660,18 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   };
 
   // Every block the residuals use and how it is held. A camera holds what the options hold and
-  // every shared parameter (unused when it is in a group, held when its size formed none); a
-  // group block holds what the options hold and every parameter that is not shared.
+  // every shared parameter (unused when it is in a group, held when its size formed none, except
+  // k1, k2: a photo whose size has too few images for a group still needs its distortion, which
+  // its own observations determine as in the per-image policy; held at 0, its focal length
+  // absorbs it); a group block holds what the options hold and every parameter that is not
+  // shared.
   const auto describe_blocks = [&] {
     std::vector<ParameterBlockSpec> specs;
     const unsigned held_mask = HeldIntrinsicsMask(options.intrinsics);
+    constexpr unsigned kDistortion = (1u << Camera::kK1) | (1u << Camera::kK2);
     const auto held_camera = [&](camera_t id) {
-      return config.constant_cameras.count(id) ? kAllCameraParams : held_mask | shared_mask;
+      if (config.constant_cameras.count(id)) return kAllCameraParams;
+      return held_mask | (group_members.count(id) ? shared_mask : shared_mask & ~kDistortion);
     };
     std::set<camera_t> in_image_blocks;
     const size_t num_constant_points =
