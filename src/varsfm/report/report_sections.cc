@@ -50,6 +50,19 @@ std::string InitialPairCard(const ReportData& data) {
   return Card("Initial pair", pair, note);
 }
 
+// "28.44 dB", its SSIM and coverage as a card's value and note; `means` is one of the renders'
+// "held_out" / "source" objects.
+std::string RenderMeansCard(const std::string& label, const nlohmann::json& means,
+                            const std::string& what) {
+  const int images = means.value("images", 0);
+  if (images == 0) return "";
+  return Card(
+      fmt::format("{} ({})", label, images),
+      fmt::format("{:.2f} dB", means.value("mean_psnr_db", 0.0)),
+      fmt::format("SSIM {:.3f}, covers {:.1f} % of the photos; {}", means.value("mean_ssim", 0.0),
+                  100 * means.value("mean_coverage", 0.0), what));
+}
+
 double Rms(const std::vector<double>& errors) {
   double sum = 0;
   for (const double e : errors) sum += e * e;
@@ -143,23 +156,6 @@ std::string FiguresSection(const ReportCharts& charts) {
   }
   return html;
 }
-
-namespace {
-
-// "28.44 dB", its SSIM and coverage as a card's value and note; `means` is one of the renders'
-// "held_out" / "source" objects.
-std::string RenderMeansCard(const std::string& label, const nlohmann::json& means,
-                            const std::string& what) {
-  const int images = means.value("images", 0);
-  if (images == 0) return "";
-  return Card(
-      fmt::format("{} ({})", label, images),
-      fmt::format("{:.2f} dB", means.value("mean_psnr_db", 0.0)),
-      fmt::format("SSIM {:.3f}, covers {:.1f} % of the photos; {}", means.value("mean_ssim", 0.0),
-                  100 * means.value("mean_coverage", 0.0), what));
-}
-
-}  // namespace
 
 std::string RendersSection(const ReportData& data) {
   if (!data.summary.contains("renders") || !data.summary["renders"].is_object()) return "";
