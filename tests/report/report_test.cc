@@ -15,6 +15,8 @@
 #include "varsfm/report/html_report.h"
 #include "varsfm/report/html_text.h"
 #include "varsfm/report/report.h"
+#include "varsfm/report/report_charts.h"
+#include "varsfm/report/report_sections.h"
 #include "varsfm/report/svg_chart.h"
 #include "varsfm/report/vertex_clustering.h"
 #include "varsfm/util/error.h"
@@ -250,6 +252,47 @@ TEST(VertexClustering, LeavesAboutTheFacesAskedForOnTheSurface) {
 
 TEST(DisplayModel, NotAGlbIsOneLineError) {
   EXPECT_THROW(CompactGlbForDisplay({'n', 'o', 't', ' ', 'g', 'l', 'b'}), Error);
+}
+
+// Two registered photos of one field of view at different sizes (a phone's and a resized copy):
+// their focal lengths in pixels differ by x2, their zoom does not.
+ReportData TwoSizesOfOneView(int small_width, int small_height, double small_focal) {
+  ReportData data;
+  for (const Camera& camera : {Camera::FromFocal(640, 480, 600),
+                               Camera::FromFocal(small_width, small_height, small_focal)}) {
+    ReportImage image;
+    image.image_id = static_cast<image_t>(data.images.size() + 1);
+    image.name = fmt::format("{}.jpg", image.image_id);
+    image.width = camera.width, image.height = camera.height;
+    image.registered = true;
+    image.camera = camera;
+    data.images.push_back(image);
+  }
+  return data;
+}
+
+TEST(Report, PhotosOfSeveralSizesCompareFocalLengthsByFieldOfView) {
+  const ReportData mixed = TwoSizesOfOneView(320, 240, 300);
+  EXPECT_FALSE(FocalLengthsInPixels(mixed));
+  EXPECT_DOUBLE_EQ(FocalRange(mixed).first, 600.0 / 640);
+  EXPECT_DOUBLE_EQ(FocalRange(mixed).second, 600.0 / 640);
+  const std::vector<std::string> colors = FocalColors(mixed);
+  EXPECT_EQ(colors[0], colors[1]);
+  const std::string table = ImagesSection(mixed);
+  const size_t first = table.find("\u00d71.000");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_NE(table.find("\u00d71.000", first + 1), std::string::npos) << "both images at x1";
+  EXPECT_EQ(table.find("\u00d72.000"), std::string::npos);
+  const ReportCharts charts = DrawReportCharts(mixed);
+  EXPECT_NE(charts.focal.find("longer image side"), std::string::npos);
+  EXPECT_NE(charts.focal_colorbar.find(">0.928<"), std::string::npos) << "the scale's low end";
+
+  // One size: pixels, as before; the longer focal length reads x2.
+  const ReportData one_size = TwoSizesOfOneView(640, 480, 1200);
+  EXPECT_TRUE(FocalLengthsInPixels(one_size));
+  EXPECT_DOUBLE_EQ(FocalRange(one_size).first, 600);
+  EXPECT_NE(ImagesSection(one_size).find("\u00d72.000"), std::string::npos);
+  EXPECT_NE(DrawReportCharts(one_size).focal.find("focal length (px)"), std::string::npos);
 }
 
 TEST(Report, PageIsSelfContained) {

@@ -38,19 +38,22 @@ ChartFrame SmallImageFrame(int height, std::string title, std::string y_label) {
 void DrawIntrinsics(const ReportData& data, ReportCharts* charts) {
   const double shortest = FocalRange(data).first;
   const auto [low, high] = FocalScale(data);
-  PerImageSeries focal = SeriesOf(data, [](const ReportImage& i) { return i.camera.focal(); });
+  const bool in_pixels = FocalLengthsInPixels(data);
+  PerImageSeries focal =
+      SeriesOf(data, [&](const ReportImage& i) { return ComparableFocal(i.camera, in_pixels); });
   focal.colors = FocalColors(data);
   focal.color = "#555";
   focal.right_axis_unit = shortest;
   focal.min_range = {low, high};
-  focal.decimals = 1;
+  focal.decimals = in_pixels ? 1 : 3;
+  const std::string unit = in_pixels ? "focal length (px)" : "focal length / longer image side";
   charts->focal = PerImageChartSvg({.width = 620,
                                     .height = 300,
                                     .title = "Focal length per image (capture order)",
                                     .x_label = "image",
-                                    .y_label = "focal length (px)"},
+                                    .y_label = unit},
                                    focal);
-  if (high > 0) charts->focal_colorbar = ColorBarSvg(low, high, "focal length (px)");
+  if (high > 0) charts->focal_colorbar = ColorBarSvg(low, high, unit, in_pixels ? 0 : 3);
 
   PerImageSeries k1 =
       SeriesOf(data, [](const ReportImage& i) { return i.camera.params[Camera::kK1]; });
@@ -160,12 +163,29 @@ void DrawWorkspace(const ReportData& data, ReportCharts* charts) {
 
 }  // namespace
 
+bool FocalLengthsInPixels(const ReportData& data) {
+  const ReportImage* first = nullptr;
+  for (const ReportImage& image : data.images) {
+    if (!image.registered) continue;
+    if (!first) first = &image;
+    if (image.camera.width != first->camera.width || image.camera.height != first->camera.height)
+      return false;
+  }
+  return true;
+}
+
+double ComparableFocal(const Camera& camera, bool in_pixels) {
+  const int longer_side = std::max(camera.width, camera.height);
+  return in_pixels || longer_side <= 0 ? camera.focal() : camera.focal() / longer_side;
+}
+
 std::pair<double, double> FocalRange(const ReportData& data) {
+  const bool in_pixels = FocalLengthsInPixels(data);
   double shortest = INFINITY, longest = 0;
   for (const ReportImage& image : data.images) {
     if (!image.registered) continue;
-    shortest = std::min(shortest, image.camera.focal());
-    longest = std::max(longest, image.camera.focal());
+    shortest = std::min(shortest, ComparableFocal(image.camera, in_pixels));
+    longest = std::max(longest, ComparableFocal(image.camera, in_pixels));
   }
   if (longest == 0) return {0, 0};
   return {shortest, longest};
@@ -180,13 +200,15 @@ std::pair<double, double> FocalScale(const ReportData& data) {
 
 std::vector<std::string> FocalColors(const ReportData& data) {
   const auto [low, high] = FocalScale(data);
+  const bool in_pixels = FocalLengthsInPixels(data);
   std::vector<std::string> colors;
   for (const ReportImage& image : data.images) {
     if (!image.registered) {
       colors.emplace_back();
       continue;
     }
-    colors.push_back(ViridisHex(high > low ? (image.camera.focal() - low) / (high - low) : 0.5));
+    const double focal = ComparableFocal(image.camera, in_pixels);
+    colors.push_back(ViridisHex(high > low ? (focal - low) / (high - low) : 0.5));
   }
   return colors;
 }

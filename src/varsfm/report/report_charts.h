@@ -20,11 +20,21 @@ struct ReportCharts {
   std::string stage_times, mapping_times;
 };
 
+// Whether the registered images share one size, so that their focal lengths in pixels compare
+// as zoom factors. Photos of several sizes (two phones, a resized copy) compare by the focal
+// length over the longer image side instead: in pixels it follows the photo's size, not the zoom.
+bool FocalLengthsInPixels(const ReportData& data);
+
+// The focal length the report's colours, plot and "relative" figures compare: in pixels when
+// `in_pixels` (FocalLengthsInPixels), else over the image's longer side.
+double ComparableFocal(const Camera& camera, bool in_pixels);
+
 // The colour of each image (ReportData::images order) on the focal-length scale (FocalScale);
 // empty for images not in the model.
 std::vector<std::string> FocalColors(const ReportData& data);
 
-// The shortest and longest focal length of the registered images (0, 0 when none).
+// The shortest and longest comparable focal length (ComparableFocal) of the registered images
+// (0, 0 when none).
 std::pair<double, double> FocalRange(const ReportData& data);
 
 // The focal lengths the colour scale (and the focal plot's axis, at least) spans: FocalRange,

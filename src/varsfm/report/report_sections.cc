@@ -136,7 +136,11 @@ std::string OverviewSection(const ReportData& data, const ReportCharts& charts,
          "<div class=\"overview\"><div>" +
          viewer + "</div><div>" + charts.focal +
          "<p class=\"hint\">Every image has its own intrinsics. The right axis gives each focal "
-         "length relative to the shortest; colours are those of the cameras in the 3D view. "
+         "length relative to the shortest; colours are those of the cameras in the 3D view. " +
+         (FocalLengthsInPixels(data)
+              ? std::string()
+              : std::string("The photos have several sizes, so each focal length is given over "
+                            "its photo's longer side, which compares fields of view. ")) +
          "\u00d7 marks an image not in the model.</p></div></div></section>";
 }
 
@@ -193,6 +197,7 @@ std::string RendersSection(const ReportData& data) {
 std::string ImagesSection(const ReportData& data) {
   const std::vector<std::string> colors = FocalColors(data);
   const double shortest = FocalRange(data).first;
+  const bool in_pixels = FocalLengthsInPixels(data);
   std::string rows;
   std::string failed;
   for (size_t i = 0; i < data.images.size(); ++i) {
@@ -215,9 +220,9 @@ std::string ImagesSection(const ReportData& data) {
           "<td><span class=\"swatch\" style=\"background:{}\"></span>{:.1f}</td>"
           "<td>\u00d7{:.3f}</td><td>{:.4f}</td><td>{:.4f}</td><td>{:.1f}, {:.1f}</td>"
           "<td>{}</td><td>{:.3f}</td>",
-          colors[i], c.focal(), shortest > 0 ? c.focal() / shortest : 1.0, c.params[Camera::kK1],
-          c.params[Camera::kK2], c.params[Camera::kU0], c.params[Camera::kV0], image.num_points3D,
-          image.rms_error_px);
+          colors[i], c.focal(), shortest > 0 ? ComparableFocal(c, in_pixels) / shortest : 1.0,
+          c.params[Camera::kK1], c.params[Camera::kK2], c.params[Camera::kU0],
+          c.params[Camera::kV0], image.num_points3D, image.rms_error_px);
     } else {
       figures = "<td colspan=\"7\" class=\"warn\">" + EscapeHtml(image.failure) + "</td>";
       failed += "<li><b>" + name + "</b>: " + EscapeHtml(image.failure) + "</li>";

@@ -65,8 +65,10 @@ std::string MatchMatrixSvg(const MatchMatrix& matrix, int size = 480, size_t max
 std::string StageTimesSvg(const std::vector<std::pair<std::string, double>>& stages,
                           int width = 900);
 
-// A horizontal colour bar from `low` to `high` (viridis), labelled, for the focal-length scale.
-std::string ColorBarSvg(double low, double high, const std::string& label, int width = 220);
+// A horizontal colour bar from `low` to `high` (viridis), labelled, for the focal-length scale;
+// its ends are written with `decimals` decimals.
+std::string ColorBarSvg(double low, double high, const std::string& label, int decimals = 0,
+                        int width = 220);
 
 // Tick positions from `low` to `high` at a step of 1, 2 or 5 times a power of ten, about
 // `target` of them, covering the interval (the first <= low, the last >= high).

@@ -96,7 +96,8 @@ std::string StageTimesSvg(const std::vector<std::pair<std::string, double>>& sta
   return svg + "</svg>";
 }
 
-std::string ColorBarSvg(double low, double high, const std::string& label, int width) {
+std::string ColorBarSvg(double low, double high, const std::string& label, int decimals,
+                        int width) {
   std::string svg = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"colorbar\" width=\"{0}\" height=\"38\" "
       "viewBox=\"0 0 {0} 38\"><defs><linearGradient id=\"viridis\">",
@@ -106,9 +107,9 @@ std::string ColorBarSvg(double low, double high, const std::string& label, int w
   svg += fmt::format(
       "</linearGradient></defs><text class=\"tick\" x=\"0\" y=\"10\">{}</text>"
       "<rect x=\"0\" y=\"14\" width=\"{}\" height=\"10\" fill=\"url(#viridis)\"/>"
-      "<text class=\"tick\" x=\"0\" y=\"36\">{:.0f}</text>"
-      "<text class=\"tick\" x=\"{}\" y=\"36\" text-anchor=\"end\">{:.0f}</text></svg>",
-      EscapeHtml(label), width, low, width, high);
+      "<text class=\"tick\" x=\"0\" y=\"36\">{:.{}f}</text>"
+      "<text class=\"tick\" x=\"{}\" y=\"36\" text-anchor=\"end\">{:.{}f}</text></svg>",
+      EscapeHtml(label), width, low, decimals, width, high, decimals);
   return svg;
 }
 

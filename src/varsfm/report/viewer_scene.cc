@@ -84,6 +84,7 @@ nlohmann::json ViewerSceneJson(const ReportData& data) {
   nlohmann::json cameras = nlohmann::json::array();
   const std::vector<std::string> colors = FocalColors(data);
   const double shortest = FocalRange(data).first;
+  const bool in_pixels = FocalLengthsInPixels(data);
   for (size_t i = 0; i < data.images.size(); ++i) {
     const ReportImage& image = data.images[i];
     if (!image.registered) continue;
@@ -107,7 +108,7 @@ nlohmann::json ViewerSceneJson(const ReportData& data) {
                        {"corners", corners},
                        {"color", colors[i]},
                        {"focal", cam.focal()},
-                       {"ratio", shortest > 0 ? cam.focal() / shortest : 1.0},
+                       {"ratio", shortest > 0 ? ComparableFocal(cam, in_pixels) / shortest : 1.0},
                        {"k1", cam.params[Camera::kK1]},
                        {"k2", cam.params[Camera::kK2]},
                        {"pp", {cam.params[Camera::kU0], cam.params[Camera::kV0]}},
