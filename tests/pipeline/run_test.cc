@@ -159,6 +159,53 @@ TEST(RunCommand, SeedReachesEveryStage) {
   sqlite3_close(db);
 }
 
+std::string ReadBytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// An output folder holds the workspace of the photos it was made from: a run of other photos
+// into it is refused (matching and mapping would take both sets), and leaves it as it was; a run
+// of the same photos, or of more, resumes it.
+TEST(RunCommand, AnOutputFolderOfOtherPhotosIsRefused) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir tmp("other-photos");
+  const auto first = tmp.path() / "first", second = tmp.path() / "second";
+  std::filesystem::create_directories(first);
+  std::filesystem::create_directories(second);
+  for (const char* name : {"kermit000.jpg", "kermit001.jpg", "kermit002.jpg", "kermit003.jpg"})
+    std::filesystem::copy_file(kermit / name, first / name);
+  for (const char* name : {"kermit004.jpg", "kermit005.jpg", "kermit006.jpg"})
+    std::filesystem::copy_file(kermit / name, second / name);
+  const auto out = tmp.path() / "out";
+  const auto run = [&](const std::filesystem::path& images, std::string* log) {
+    return RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
+                                  ShellQuote(images), ShellQuote(out)),
+                      log);
+  };
+  std::string log;
+  ASSERT_EQ(run(first, &log), 0) << log;
+  const std::string workspace = ReadBytes(out / "workspace.db");
+  const std::string images = ReadBytes(out / "sparse" / "0" / "images.bin");
+
+  EXPECT_EQ(run(second, &log), 1) << log;
+  EXPECT_NE(log.find("holds 4 image(s) that are not in"), std::string::npos) << log;
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+  EXPECT_TRUE(ReadBytes(out / "workspace.db") == workspace) << "the workspace was changed";
+  EXPECT_TRUE(ReadBytes(out / "sparse" / "0" / "images.bin") == images) << "the model was changed";
+
+  // Photos taken out of the folder: the same refusal.
+  std::filesystem::remove(first / "kermit003.jpg");
+  EXPECT_EQ(run(first, &log), 1) << log;
+  EXPECT_NE(log.find("kermit003.jpg"), std::string::npos) << log;
+
+  // More photos of the same folder: resumed.
+  std::filesystem::copy_file(kermit / "kermit003.jpg", first / "kermit003.jpg");
+  std::filesystem::copy_file(kermit / "kermit004.jpg", first / "kermit004.jpg");
+  EXPECT_EQ(run(first, &log), 0) << log;
+  EXPECT_NE(log.find("4 of 5 images already extracted"), std::string::npos) << log;
+}
+
 TEST(RunCommand, MissingInputIsAOneLineError) {
   TempDir tmp("missing");
   std::string out;

@@ -2,7 +2,11 @@
 
 #include <fstream>
 #include <string>
+#include <unordered_set>
+#include <vector>
 
+#include "varsfm/image/image_list.h"
+#include "varsfm/io/database.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
@@ -24,6 +28,25 @@ void RunOptions::Check() const {
 }
 
 namespace {
+
+// `run` builds the model of its input, but matching and mapping take every image of the
+// workspace: an output folder of another set of photos (or of this folder before photos were
+// taken out of it) would mix that set's images into this model, silently. Refused before
+// anything is written, so that workspace stays as it is.
+void CheckWorkspaceHoldsOnlyInput(const std::filesystem::path& workspace,
+                                  const std::filesystem::path& image_dir) {
+  if (!std::filesystem::exists(workspace)) return;
+  const std::vector<std::string> names = ListImages(image_dir);
+  const std::unordered_set<std::string> input(names.begin(), names.end());
+  std::vector<std::string> others;
+  for (const DbImage& image : Database(workspace).ReadAllImages())
+    if (!input.contains(image.name)) others.push_back(image.name);
+  if (others.empty()) return;
+  Fail(
+      "{} holds {} image(s) that are not in {} (e.g. {}): it was made from other photos; give a "
+      "new output folder, or delete that workspace to start afresh",
+      workspace.string(), others.size(), image_dir.string(), others.front());
+}
 
 // The stages that make the sparse model: extract, match, map. Returns the folder the photos
 // were read from (a video's keyframes: their folder).
@@ -71,6 +94,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   const bool created_output = !fs::exists(options.output);
+  if (!video) CheckWorkspaceHoldsOnlyInput(options.output / "workspace.db", options.input);
   CreateFolder(options.output);
 
   RunSummary result;
