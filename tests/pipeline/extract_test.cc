@@ -260,6 +260,42 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   EXPECT_EQ(out.find("other settings"), std::string::npos) << out;
 }
 
+// A photo replaced under its name (here by a half-size copy of another) is another file: it is
+// extracted again, its camera takes the new size and its matches go; the others are skipped.
+TEST(ExtractCommand, APhotoReplacedUnderItsNameIsExtractedAgain) {
+  TempDir dir("extract_replaced");
+  const fs::path images = WriteThreeImages(dir.path() / "images");
+  const fs::path workspace = dir.path() / "ws.db";
+  const std::string input = "--images " + ShellQuote(images);
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, input), &out), 0) << out;
+  ASSERT_EQ(RunCommand(fmt::format("{} match --workspace {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(workspace)),
+                       &out),
+            0)
+      << out;
+  cv::Mat replacement(120, 160, CV_8UC1);
+  cv::RNG(9).fill(replacement, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(replacement, replacement, cv::Size(), 1.0);
+  WriteImage(images / "1.png", replacement);
+
+  ASSERT_EQ(RunCommand(Extract(workspace, input), &out), 0) << out;
+  EXPECT_NE(out.find("2 of 3 images already extracted"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 images are other files than the ones extracted"), std::string::npos) << out;
+  {
+    Database db(workspace);
+    const std::optional<DbImage> image = db.ReadImageWithName("1.png");
+    ASSERT_TRUE(image);
+    const std::optional<DbCamera> camera = db.ReadCamera(image->camera_id);
+    ASSERT_TRUE(camera);
+    EXPECT_EQ(camera->width, 160);
+    EXPECT_EQ(camera->height, 120);
+    EXPECT_EQ(db.NumMatchedPairs(), 1u) << "only the pair without 1.png keeps its matches";
+  }
+  ASSERT_EQ(RunCommand(Extract(workspace, input), &out), 0) << out;
+  EXPECT_NE(out.find("3 of 3 images already extracted"), std::string::npos) << out;
+}
+
 // The extractor's version is part of the recorded settings: features recorded with another
 // version, or with none (an extractor from before versions were recorded), are extracted again,
 // and the next run finds them current.

@@ -16,6 +16,9 @@ constexpr const char* kCreateTables[] = {
     "CREATE TABLE IF NOT EXISTS varsfm_image_settings (image_id INTEGER PRIMARY KEY NOT NULL, "
     "settings_id INTEGER NOT NULL, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE "
     "CASCADE, FOREIGN KEY(settings_id) REFERENCES varsfm_settings(settings_id))",
+    "CREATE TABLE IF NOT EXISTS varsfm_image_files (image_id INTEGER PRIMARY KEY NOT NULL, "
+    "fingerprint TEXT NOT NULL, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE "
+    "CASCADE)",
     "CREATE TABLE IF NOT EXISTS varsfm_pair_settings (pair_id INTEGER PRIMARY KEY NOT NULL, "
     "settings_id INTEGER NOT NULL, FOREIGN KEY(settings_id) REFERENCES "
     "varsfm_settings(settings_id))",
@@ -32,6 +35,10 @@ struct ResultSettings::Statements {
         write_image_settings(db,
                              "INSERT OR REPLACE INTO varsfm_image_settings(image_id, settings_id) "
                              "VALUES(?, ?)"),
+        read_image_files(db, "SELECT image_id, fingerprint FROM varsfm_image_files"),
+        write_image_file(db,
+                         "INSERT OR REPLACE INTO varsfm_image_files(image_id, fingerprint) "
+                         "VALUES(?, ?)"),
         read_pair_settings(db, "SELECT pair_id, settings_id FROM varsfm_pair_settings"),
         write_pair_settings(db,
                             "INSERT OR REPLACE INTO varsfm_pair_settings(pair_id, settings_id) "
@@ -40,6 +47,7 @@ struct ResultSettings::Statements {
 
   Statement add_settings, find_settings;
   Statement read_image_settings, write_image_settings;
+  Statement read_image_files, write_image_file;
   Statement read_pair_settings, write_pair_settings, delete_pair_settings;
 };
 
@@ -73,6 +81,20 @@ void ResultSettings::WriteImageSettings(image_t image_id, int64_t settings_id) {
   Query(statements_->write_image_settings, "cannot record an image's settings")
       .Bind(image_id)
       .Bind(settings_id)
+      .Step();
+}
+
+std::unordered_map<image_t, std::string> ResultSettings::ReadImageFiles() const {
+  Query query(statements_->read_image_files, "cannot read the images' file fingerprints");
+  std::unordered_map<image_t, std::string> files;
+  while (query.Step()) files[static_cast<image_t>(query.Int(0))] = query.Text(1);
+  return files;
+}
+
+void ResultSettings::WriteImageFile(image_t image_id, const std::string& fingerprint) {
+  Query(statements_->write_image_file, "cannot record an image's file fingerprint")
+      .Bind(image_id)
+      .BindText(fingerprint)
       .Step();
 }
 

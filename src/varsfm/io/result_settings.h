@@ -32,6 +32,11 @@ class ResultSettings {
   std::unordered_map<image_t, int64_t> ReadImageSettings() const;
   void WriteImageSettings(image_t image_id, int64_t settings_id);
 
+  // image id -> the fingerprint (util/file_fingerprint.h) of the photo its features were
+  // extracted from, so that a photo replaced under the same name is extracted again.
+  std::unordered_map<image_t, std::string> ReadImageFiles() const;
+  void WriteImageFile(image_t image_id, const std::string& fingerprint);
+
   // pair id (Database::ImagePairToPairId) -> id of the settings the pair was matched with.
   std::unordered_map<image_pair_t, int64_t> ReadPairSettings() const;
   void WritePairSettings(image_t image_id1, image_t image_id2, int64_t settings_id);

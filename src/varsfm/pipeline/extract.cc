@@ -19,6 +19,7 @@
 #include "varsfm/io/result_settings.h"
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/file_fingerprint.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
@@ -69,6 +70,7 @@ struct Extracted {
   bool usable = false;
   DbCamera camera;
   ImageFeatures features;
+  std::string fingerprint;  // of the photo's file
 };
 
 struct InputImages {
@@ -125,12 +127,14 @@ struct ExtractionPlan {
   size_t num_existing = 0;  // skipped: extracted with these settings
 };
 
-// Images with features from these settings are skipped. Features with no record (made by
-// COLMAP or an earlier varsfm) are kept and recorded as made with these settings: nothing tells
-// what they were made with, and a user resuming expects them kept.
+// Images with features from these settings are skipped, unless their photo is another file than
+// the one they were extracted from (a photo replaced or resized under the same name). Features
+// with no record (made by COLMAP or an earlier varsfm) are kept and recorded as made with these
+// settings and from the photo there now: nothing tells what they were made from, and a user
+// resuming expects them kept.
 ExtractionPlan PlanExtraction(Database& db, ResultSettings& record, int64_t settings,
-                              const std::vector<std::string>& names,
-                              const std::vector<bool>& unusable) {
+                              const InputImages& input, const std::vector<bool>& unusable) {
+  const std::vector<std::string>& names = input.names;
   const std::unordered_map<image_t, int64_t> recorded = record.ReadImageSettings();
   std::unordered_map<std::string, image_t> current, stale, without_features;
   std::vector<image_t> unrecorded;
@@ -152,10 +156,21 @@ ExtractionPlan PlanExtraction(Database& db, ResultSettings& record, int64_t sett
   }
 
   ExtractionPlan plan;
-  size_t num_stale = 0;
+  size_t num_stale = 0, num_replaced = 0;
+  const std::unordered_map<image_t, std::string> files = record.ReadImageFiles();
+  std::vector<std::pair<image_t, std::string>> unrecorded_files;
   for (size_t i = 0; i < names.size(); ++i) {
-    if (current.contains(names[i])) {
-      ++plan.num_existing;
+    if (const auto it = current.find(names[i]); it != current.end()) {
+      const std::string fingerprint = FileFingerprint(input.dir / names[i]);
+      const auto file = files.find(it->second);
+      if (file == files.end()) unrecorded_files.emplace_back(it->second, fingerprint);
+      if (file == files.end() || file->second == fingerprint || unusable[i]) {
+        ++plan.num_existing;
+        continue;
+      }
+      plan.todo.push_back(i);
+      plan.existing[names[i]] = it->second;
+      ++num_replaced;
       continue;
     }
     if (unusable[i]) continue;
@@ -167,8 +182,20 @@ ExtractionPlan PlanExtraction(Database& db, ResultSettings& record, int64_t sett
       plan.existing[names[i]] = it2->second;
     }
   }
+  if (!unrecorded_files.empty()) {
+    Database::Transaction transaction(db);
+    for (const auto& [image_id, fingerprint] : unrecorded_files)
+      record.WriteImageFile(image_id, fingerprint);
+    transaction.Commit();
+  }
   if (plan.num_existing > 0) {
     info("{} of {} images already extracted, skipped", plan.num_existing, names.size());
+  }
+  if (num_replaced > 0) {
+    info(
+        "{} images are other files than the ones extracted under their names: extracting them "
+        "again (their matches are removed)",
+        num_replaced);
   }
   if (num_stale > 0) {
     info(
@@ -243,7 +270,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   ResultSettings record(db);
   const int64_t settings = record.Id("extract", FeatureSettings(options.sift));
   RemoveEarlierKeyframes(db, record, input);
-  const ExtractionPlan plan = PlanExtraction(db, record, settings, input.names, unusable);
+  const ExtractionPlan plan = PlanExtraction(db, record, settings, input, unusable);
   summary.num_existing = plan.num_existing;
   const std::vector<size_t>& todo = plan.todo;
   const std::vector<image_t> all_ids = [&db] {
@@ -264,6 +291,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     }
     if (!image) return out;
     out.usable = true;
+    out.fingerprint = FileFingerprint(input.dir / input.names[index]);
     out.camera = DefaultCamera(*image);
     out.features = ExtractSift(image->pixels, options.sift);
     return out;
@@ -289,6 +317,15 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
         db.DeletePair(image_id, other);
         record.DeletePairSettings(image_id, other);
       }
+      // A photo replaced by one of another size: its camera's size and prior follow.
+      const std::optional<DbImage> image = db.ReadImage(image_id);
+      if (const std::optional<DbCamera> camera =
+              image ? db.ReadCamera(image->camera_id) : std::nullopt;
+          camera && (camera->width != item.camera.width || camera->height != item.camera.height)) {
+        DbCamera resized = item.camera;
+        resized.camera_id = camera->camera_id;
+        db.UpdateCamera(resized);
+      }
     } else {
       DbImage image;
       image.name = name;
@@ -300,6 +337,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     db.WriteKeypoints(image_id, item.features.keypoints);
     db.WriteDescriptors(image_id, item.features.descriptors);
     record.WriteImageSettings(image_id, settings);
+    record.WriteImageFile(image_id, item.fingerprint);
     transaction.Commit();
     ++summary.num_extracted;
     summary.num_features += count;

@@ -9,7 +9,7 @@
 
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/fnv1a.h"
+#include "varsfm/util/file_fingerprint.h"
 
 namespace varsfm {
 namespace {
@@ -17,25 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kIdentityFile = "video.txt";
-constexpr std::streamoff kFingerprintBytes = 1 << 16;  // hashed at each end of the file
-
-// The video's size and a hash of its first and last 64 KiB: the same file gives the same text
-// wherever it lies, another video (even re-encoded from the same one) almost surely not.
-std::string Fingerprint(const fs::path& video) {
-  std::ifstream file(video, std::ios::binary | std::ios::ate);
-  if (!file) Fail("cannot read video {}", video.string());
-  const std::streamoff size = file.tellg();
-  std::array<char, kFingerprintBytes> buffer;
-  uint64_t hash = kFnv1aOffsetBasis;
-  for (const std::streamoff start :
-       {std::streamoff{0}, std::max<std::streamoff>(0, size - kFingerprintBytes)}) {
-    file.seekg(start);
-    file.read(buffer.data(), kFingerprintBytes);
-    hash = Fnv1a(buffer.data(), static_cast<size_t>(file.gcount()), hash);
-    file.clear();
-  }
-  return fmt::format("{} bytes, fnv1a {:016x}", size, hash);
-}
 
 std::string ReadIdentity(const fs::path& folder) {
   std::ifstream file(folder / kIdentityFile);
@@ -55,7 +36,7 @@ KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& vi
   std::error_code ec;
   if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
   const fs::path frames = VideoFramesDir(workspace);
-  const std::string identity = Fingerprint(video);
+  const std::string identity = FileFingerprint(video);
   const std::string stem = video.stem().string();
   std::string name = stem;
   for (int k = 2; fs::exists(frames / name, ec) && ReadIdentity(frames / name) != identity; ++k) {
