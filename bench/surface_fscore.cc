@@ -9,6 +9,7 @@
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
+//                  [--edge-erosion 4]
 //                  [--seed 42] [--write-cloud FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
@@ -16,8 +17,9 @@
 // --source-views, --redundant-weight: the source views (dense/source_views.h);
 // --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
 // (patchmatch.h);
-// --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h); --seed: the
-// scene's seed (RenderedSceneOptions).
+// --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h);
+// --edge-erosion: the depths dropped beside the open background before fusion (depth_edges.h);
+// --seed: the scene's seed (RenderedSceneOptions).
 // Prints one markdown table row per method: faces, accuracy, completeness, F-score, seconds.
 #include <cstdio>
 #include <exception>
@@ -91,6 +93,7 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--fusion-reprojection", real(&fusion.max_reprojection_error)},
       {"--fusion-depth", real(&fusion.max_depth_difference)},
       {"--two-view-cost", real(&fusion.two_view_max_cost)},
+      {"--edge-erosion", integer(&dense.mvs.edges.erosion_px)},
       {"--write-cloud", [&](const std::string& text) { cloud_file = text; }},
       {"--edge-factors", [&](const std::string& text) { edge_factors = parse_list(text); }},
       {"--hole-edges", [&](const std::string& text) { hole_edges = parse_list(text); }},

@@ -131,6 +131,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-sigma-spatial", dense->mvs.patchmatch.sigma_spatial,
                  "PatchMatch's bilateral NCC weights: pixel distance from the window's centre of "
                  "about 1.2 x this has half weight");
+  AddWithDefault(cmd, "--dense-min-texture", dense->mvs.patchmatch.min_ncc_variance,
+                 "PatchMatch gives no depth to a pixel whose bilateral-weighted window has a "
+                 "lower intensity variance (intensities 0 to 1)");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
                  "PatchMatch iterations (red and black sweeps)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,
@@ -145,6 +148,11 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "PatchMatch planar-prior pass iterations (0: none)");
   AddWithDefault(cmd, "--dense-planar-fill-flat", dense->mvs.patchmatch.planar_fill_flat,
                  "planar prior: flat windows take their prior plane (true/false)");
+  AddWithDefault(
+      cmd, "--dense-edge-erosion", dense->mvs.edges.erosion_px,
+      "PatchMatch depths within this many pixels of the open background (no depth, reaching "
+      "the image's border: the sky past a roofline) are dropped before fusion, against "
+      "foreground fattening (0 to 16; 0: none)");
   AddWithDefault(cmd, "--dense-min-consistent", dense->mvs.fusion.min_consistent_views,
                  "other views that must confirm a PatchMatch depth (geometric consistency)");
   AddWithDefault(cmd, "--dense-two-view-cost", dense->mvs.fusion.two_view_max_cost,

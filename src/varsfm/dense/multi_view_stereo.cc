@@ -237,6 +237,8 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   st.seconds_patchmatch = timer.Seconds();
   timer.Restart();
 
+  tbb::parallel_for(size_t{0}, fusion.size(),
+                    [&](size_t r) { ErodeDepthEdges(options.edges, &fusion[r].map); });
   FilterByGeometricConsistency(&fusion, options.fusion);
   st.num_consistent = CountDepths(fusion);
   if (inputs.covered)
@@ -258,6 +260,7 @@ void MultiViewStereoOptions::Check() const {
   sources.Check();
   patchmatch.Check();
   planar.Check();
+  edges.Check();
   fusion.Check();
 }
 

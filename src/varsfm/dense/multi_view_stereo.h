@@ -8,6 +8,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "varsfm/dense/depth_edges.h"
 #include "varsfm/dense/depth_fusion.h"
 #include "varsfm/dense/patchmatch.h"
 #include "varsfm/dense/planar_prior.h"
@@ -26,6 +27,7 @@ struct MultiViewStereoOptions {
   // A last pass with the planar prior of each view's confident, consistent depths (0 iterations:
   // none).
   PlanarPriorOptions planar;
+  DepthEdgeOptions edges;  // before fusion
   DepthFusionOptions fusion;
   uint64_t seed = kDefaultSeed;
 
