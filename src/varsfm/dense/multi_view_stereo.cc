@@ -237,8 +237,11 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   st.seconds_patchmatch = timer.Seconds();
   timer.Restart();
 
-  tbb::parallel_for(size_t{0}, fusion.size(),
-                    [&](size_t r) { ErodeDepthEdges(options.edges, &fusion[r].map); });
+  std::vector<size_t> beside_background(fusion.size(), 0);
+  tbb::parallel_for(size_t{0}, fusion.size(), [&](size_t r) {
+    beside_background[r] = ErodeDepthEdges(options.edges, &fusion[r].map);
+  });
+  for (const size_t n : beside_background) st.num_beside_background += n;
   FilterByGeometricConsistency(&fusion, options.fusion);
   st.num_consistent = CountDepths(fusion);
   if (inputs.covered)
@@ -248,10 +251,10 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   st.num_points = cloud.points.size();
   st.seconds_fusion = timer.Seconds();
   info(
-      "multi-view stereo: {} depth maps, {} depths, {} consistent, {} fused points (undistort "
-      "{:.1f} s, patchmatch {:.1f} s, fusion {:.1f} s)",
-      st.num_views, st.num_depths, st.num_consistent, st.num_points, st.seconds_undistort,
-      st.seconds_patchmatch, st.seconds_fusion);
+      "multi-view stereo: {} depth maps, {} depths ({} beside the open background dropped), {} "
+      "consistent, {} fused points (undistort {:.1f} s, patchmatch {:.1f} s, fusion {:.1f} s)",
+      st.num_views, st.num_depths, st.num_beside_background, st.num_consistent, st.num_points,
+      st.seconds_undistort, st.seconds_patchmatch, st.seconds_fusion);
   return cloud;
 }
 

@@ -35,10 +35,11 @@ struct MultiViewStereoOptions {
 };
 
 struct MultiViewStereoStats {
-  size_t num_views = 0;       // reference views with a depth map
-  size_t num_depths = 0;      // pixels with a photometrically valid depth, all views
-  size_t num_consistent = 0;  // of which geometrically consistent
-  size_t num_points = 0;      // fused
+  size_t num_views = 0;              // reference views with a depth map
+  size_t num_depths = 0;             // pixels with a photometrically valid depth, all views
+  size_t num_beside_background = 0;  // of which dropped beside the open background
+  size_t num_consistent = 0;         // of which geometrically consistent
+  size_t num_points = 0;             // fused
   double seconds_undistort = 0;
   double seconds_patchmatch = 0;
   double seconds_fusion = 0;

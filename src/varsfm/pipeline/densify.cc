@@ -28,6 +28,7 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r, ui
       {"seed", seed},
       {"depth_maps", st.mvs.num_views},
       {"depths", st.mvs.num_depths},
+      {"depths_beside_open_background", st.mvs.num_beside_background},
       {"consistent_depths", st.mvs.num_consistent},
       {"patchmatch_points", st.mvs.num_points},
       {"pairs", st.num_pairs},
