@@ -439,6 +439,34 @@ TEST(ExtractCommand, SecondVideoKeepsTheFirstOnesFrames) {
 
 // Keyframes an earlier extraction chose with other keyframe settings and this one does not
 // leave the workspace (the cap removed their files).
+// `run` of a video into an output folder whose workspace holds other images (photos here) is
+// refused before anything is written; a workspace holding this video's keyframes is its own.
+TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
+  TempDir dir("run_video_other_set");
+  const fs::path video = dir.path() / "pan.avi";
+  WritePanVideo(video, 20, {});
+  const fs::path photos = WriteThreeImages(dir.path() / "images");
+  const fs::path out = dir.path() / "out";
+  std::string log;
+  ASSERT_EQ(RunCommand(Extract(out / "workspace.db", "--images " + ShellQuote(photos)), &log), 0)
+      << log;
+  const std::string workspace = FileBytes(out / "workspace.db");
+  const std::string run = fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
+                                      ShellQuote(video), ShellQuote(out));
+  EXPECT_EQ(RunCommand(run, &log), 1) << log;
+  EXPECT_NE(log.find("holds 3 image(s) that are not keyframes of"), std::string::npos) << log;
+  EXPECT_TRUE(FileBytes(out / "workspace.db") == workspace) << "the workspace was changed";
+  EXPECT_FALSE(fs::exists(VideoFramesDir(out / "workspace.db"))) << "keyframes were written";
+
+  const fs::path own = dir.path() / "own";
+  ASSERT_EQ(RunCommand(Extract(own / "workspace.db", "--video " + ShellQuote(video)), &log), 0)
+      << log;
+  RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
+                         ShellQuote(video), ShellQuote(own)),
+             &log);
+  EXPECT_EQ(log.find("not keyframes of"), std::string::npos) << log;
+}
+
 TEST(ExtractCommand, OtherKeyframeSettingsReplaceTheEarlierKeyframes) {
   TempDir dir("extract_video_settings");
   const fs::path video = dir.path() / "pan.avi";

@@ -7,6 +7,7 @@
 
 #include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
+#include "varsfm/pipeline/video_frames.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
@@ -30,22 +31,30 @@ void RunOptions::Check() const {
 namespace {
 
 // `run` builds the model of its input, but matching and mapping take every image of the
-// workspace: an output folder of another set of photos (or of this folder before photos were
-// taken out of it) would mix that set's images into this model, silently. Refused before
-// anything is written, so that workspace stays as it is.
+// workspace: an output folder of another set of photos or another video (or of this folder
+// before photos were taken out of it) would mix that set's images into this model, silently.
+// Refused before anything is written, so that workspace stays as it is. A video's images are the
+// keyframes in its own folder (video_frames.h).
 void CheckWorkspaceHoldsOnlyInput(const std::filesystem::path& workspace,
-                                  const std::filesystem::path& image_dir) {
+                                  const std::filesystem::path& input, bool video) {
   if (!std::filesystem::exists(workspace)) return;
-  const std::vector<std::string> names = ListImages(image_dir);
-  const std::unordered_set<std::string> input(names.begin(), names.end());
+  std::unordered_set<std::string> names;
+  std::string folder;
+  if (video) {
+    folder = VideoFramesFolderName(workspace, input) + "/";
+  } else {
+    for (std::string& name : ListImages(input)) names.insert(std::move(name));
+  }
   std::vector<std::string> others;
   for (const DbImage& image : Database(workspace).ReadAllImages())
-    if (!input.contains(image.name)) others.push_back(image.name);
+    if (video ? !image.name.starts_with(folder) : !names.contains(image.name))
+      others.push_back(image.name);
   if (others.empty()) return;
   Fail(
-      "{} holds {} image(s) that are not in {} (e.g. {}): it was made from other photos; give a "
+      "{} holds {} image(s) that are not {} {} (e.g. {}): it was made from other photos; give a "
       "new output folder, or delete that workspace to start afresh",
-      workspace.string(), others.size(), image_dir.string(), others.front());
+      workspace.string(), others.size(), video ? "keyframes of" : "in", input.string(),
+      others.front());
 }
 
 // The stages that make the sparse model: extract, match, map. Returns the folder the photos
@@ -94,7 +103,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   const bool created_output = !fs::exists(options.output);
-  if (!video) CheckWorkspaceHoldsOnlyInput(options.output / "workspace.db", options.input);
+  CheckWorkspaceHoldsOnlyInput(options.output / "workspace.db", options.input, video);
   CreateFolder(options.output);
 
   RunSummary result;

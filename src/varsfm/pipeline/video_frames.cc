@@ -31,8 +31,7 @@ fs::path VideoFramesDir(const fs::path& workspace) {
   return workspace.parent_path() / (workspace.stem().string() + "_frames");
 }
 
-KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& video,
-                                   const KeyframeOptions& options) {
+std::string VideoFramesFolderName(const fs::path& workspace, const fs::path& video) {
   std::error_code ec;
   if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
   const fs::path frames = VideoFramesDir(workspace);
@@ -42,6 +41,15 @@ KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& vi
   for (int k = 2; fs::exists(frames / name, ec) && ReadIdentity(frames / name) != identity; ++k) {
     name = fmt::format("{}_{}", stem, k);
   }
+  return name;
+}
+
+KeyframeSummary ExtractVideoFrames(const fs::path& workspace, const fs::path& video,
+                                   const KeyframeOptions& options) {
+  std::error_code ec;
+  const fs::path frames = VideoFramesDir(workspace);
+  const std::string name = VideoFramesFolderName(workspace, video);
+  const std::string identity = FileFingerprint(video);
   const fs::path folder = frames / name;
   const bool created = !fs::exists(folder, ec);
   KeyframeSummary summary;

@@ -13,6 +13,12 @@ namespace varsfm {
 // stem>_frames.
 std::filesystem::path VideoFramesDir(const std::filesystem::path& workspace);
 
+// The name of the folder under VideoFramesDir(workspace) that holds, or would hold, the keyframes
+// of `video` (as ExtractVideoFrames chooses it below). Throws varsfm::Error when the video does not
+// exist or cannot be read.
+std::string VideoFramesFolderName(const std::filesystem::path& workspace,
+                                  const std::filesystem::path& video);
+
 // Writes the keyframes of `video` into its folder under VideoFramesDir(workspace) and returns
 // their names relative to VideoFramesDir(workspace). The folder is the video's file stem, or
 // stem_2, stem_3, ... when a folder of that name holds another video's frames; a video is
