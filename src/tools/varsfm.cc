@@ -151,8 +151,8 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(
       cmd, "--dense-edge-erosion", dense->mvs.edges.erosion_px,
       "PatchMatch depths within this many pixels of the open background (no depth, reaching "
-      "the image's border: the sky past a roofline) are dropped before fusion, against "
-      "foreground fattening (0 to 16; 0: none)");
+      "the image's border or covering 1 % of it: the sky past a roofline) are dropped before "
+      "fusion, against foreground fattening (0 to 16; 0: none)");
   AddWithDefault(cmd, "--dense-min-consistent", dense->mvs.fusion.min_consistent_views,
                  "other views that must confirm a PatchMatch depth (geometric consistency)");
   AddWithDefault(cmd, "--dense-two-view-cost", dense->mvs.fusion.two_view_max_cost,

@@ -8,11 +8,11 @@
 namespace varsfm {
 namespace {
 
-// 40 x 30 at depth 2, except `no_depth(x, y)`.
+// width x height (40 x 30 unless given) at depth 2, except `no_depth(x, y)`.
 template <typename F>
-DepthMap Map(F no_depth) {
+DepthMap Map(F no_depth, int width = 40, int height = 30) {
   DepthMap map;
-  map.width = 40, map.height = 30;
+  map.width = width, map.height = height;
   map.depth.assign(map.width * map.height, 2.0f);
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x)
@@ -36,25 +36,42 @@ TEST(DepthEdges, DropsTheDepthsBesideTheOpenBackground) {
   EXPECT_EQ(Dropped(before, map), 90u);
 }
 
-TEST(DepthEdges, AHoleInsideASurfaceIsLeftAlone) {
-  // A blank 8 x 8 patch of a wall: fattened by the wall, at the wall's depth.
-  const DepthMap before = Map([](int x, int y) { return x >= 10 && x < 18 && y >= 10 && y < 18; });
+TEST(DepthEdges, ASmallHoleInsideASurfaceIsLeftAlone) {
+  // A blank 8 x 8 patch of a 100 x 100 wall (0.64 % of it): fattened by the wall, at the wall's
+  // depth.
+  const DepthMap before =
+      Map([](int x, int y) { return x >= 40 && x < 48 && y >= 40 && y < 48; }, 100, 100);
   DepthMap map = before;
   EXPECT_EQ(ErodeDepthEdges(DepthEdgeOptions{.erosion_px = 4}, &map), 0u);
   EXPECT_EQ(map.depth, before.depth);
 }
 
+TEST(DepthEdges, ALargeEnclosedGapIsOpenBackground) {
+  // 20 x 20 (4 %) without depth inside the map: the sky between two towers and a roof.
+  const DepthMap before =
+      Map([](int x, int y) { return x >= 40 && x < 60 && y >= 40 && y < 60; }, 100, 100);
+  DepthMap map = before;
+  EXPECT_EQ(ErodeDepthEdges(DepthEdgeOptions{.erosion_px = 2}, &map), 24u * 24u - 20u * 20u);
+  EXPECT_EQ(map.depth[map.Index(38, 50)], 0.0f);
+  EXPECT_EQ(map.depth[map.Index(37, 50)], 2.0f);
+  // Counted as open only when it reaches the border: left alone.
+  map = before;
+  EXPECT_EQ(ErodeDepthEdges(DepthEdgeOptions{.erosion_px = 2, .large_gap_fraction = 0}, &map), 0u);
+}
+
 TEST(DepthEdges, AThreadOfMissingPixelsDoesNotOpenAHole) {
-  // The same hole, joined to the border by a line two pixels wide.
-  const DepthMap before = Map([](int x, int y) {
-    return (x >= 10 && x < 18 && y >= 10 && y < 18) || (y >= 13 && y < 15 && x < 10);
-  });
+  // The small hole, joined to the border by a line two pixels wide.
+  const DepthMap before = Map(
+      [](int x, int y) {
+        return (x >= 40 && x < 48 && y >= 40 && y < 48) || (y >= 43 && y < 45 && x < 40);
+      },
+      100, 100);
   DepthMap map = before;
   EXPECT_EQ(ErodeDepthEdges(DepthEdgeOptions{.erosion_px = 2}, &map), 0u);
   // With gaps of any width counted, the hole is open background.
   EXPECT_GT(ErodeDepthEdges(DepthEdgeOptions{.erosion_px = 2, .min_gap_px = 1}, &map), 0u);
-  EXPECT_EQ(map.depth[map.Index(19, 12)], 0.0f) << "beside the hole";
-  EXPECT_EQ(map.depth[map.Index(30, 25)], 2.0f) << "far from it";
+  EXPECT_EQ(map.depth[map.Index(49, 42)], 0.0f) << "beside the hole";
+  EXPECT_EQ(map.depth[map.Index(80, 80)], 2.0f) << "far from it";
 }
 
 TEST(DepthEdges, NoErosionLeavesTheMap) {
@@ -67,6 +84,7 @@ TEST(DepthEdges, NoErosionLeavesTheMap) {
 TEST(DepthEdges, OptionsAreChecked) {
   EXPECT_THROW((DepthEdgeOptions{.erosion_px = -1}.Check()), OptionError);
   EXPECT_THROW((DepthEdgeOptions{.erosion_px = 2, .min_gap_px = 0}.Check()), OptionError);
+  EXPECT_THROW((DepthEdgeOptions{.large_gap_fraction = 1.5}.Check()), OptionError);
   EXPECT_NO_THROW(DepthEdgeOptions{}.Check());
 }
 

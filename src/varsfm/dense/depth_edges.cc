@@ -10,7 +10,7 @@ namespace varsfm {
 namespace {
 
 // The pixels without depth that belong to the open background (255), the others 0.
-cv::Mat OpenBackground(const DepthMap& map, int min_gap_px) {
+cv::Mat OpenBackground(const DepthMap& map, int min_gap_px, double large_fraction) {
   const cv::Mat depth(map.height, map.width, CV_32F, const_cast<float*>(map.depth.data()));
   cv::Mat gap = depth <= 0;
   if (min_gap_px > 1)
@@ -23,6 +23,13 @@ cv::Mat OpenBackground(const DepthMap& map, int min_gap_px) {
     open[labels.at<int>(0, x)] = open[labels.at<int>(labels.rows - 1, x)] = 255;
   for (int y = 0; y < labels.rows; ++y)
     open[labels.at<int>(y, 0)] = open[labels.at<int>(y, labels.cols - 1)] = 255;
+  if (large_fraction > 0) {  // 0: only the regions that reach the border
+    std::vector<size_t> area(count, 0);
+    for (int y = 0; y < labels.rows; ++y)
+      for (int x = 0; x < labels.cols; ++x) ++area[labels.at<int>(y, x)];
+    for (int k = 1; k < count; ++k)
+      if (area[k] >= large_fraction * labels.total()) open[k] = 255;
+  }
   open[0] = 0;  // label 0: every pixel that is no gap
   for (int y = 0; y < labels.rows; ++y)
     for (int x = 0; x < labels.cols; ++x) gap.at<uchar>(y, x) = open[labels.at<int>(y, x)];
@@ -35,7 +42,7 @@ size_t ErodeDepthEdges(const DepthEdgeOptions& options, DepthMap* map) {
   const int r = options.erosion_px;
   if (r <= 0 || map->depth.empty()) return 0;
   cv::Mat near_background;
-  cv::dilate(OpenBackground(*map, options.min_gap_px), near_background,
+  cv::dilate(OpenBackground(*map, options.min_gap_px, options.large_gap_fraction), near_background,
              cv::Mat::ones(2 * r + 1, 2 * r + 1, CV_8U), {-1, -1}, 1, cv::BORDER_CONSTANT, 0);
   size_t dropped = 0;
   for (int y = 0; y < map->height; ++y)
@@ -49,6 +56,7 @@ size_t ErodeDepthEdges(const DepthEdgeOptions& options, DepthMap* map) {
 void DepthEdgeOptions::Check() const {
   CheckInRange("--dense-edge-erosion", erosion_px, 0, 16);
   CheckInRange("depth edge min_gap_px", min_gap_px, 1, 64);
+  CheckInRange("depth edge large_gap_fraction", large_gap_fraction, 0.0, 1.0);
 }
 
 }  // namespace varsfm
