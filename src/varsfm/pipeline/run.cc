@@ -2,10 +2,8 @@
 
 #include <fstream>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
-#include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/scene/holdout.h"
@@ -33,21 +31,17 @@ namespace {
 // `run` builds the model of its input, but matching and mapping take every image of the
 // workspace: an output folder of another set of photos or another video (or of this folder
 // before photos were taken out of it) would mix that set's images into this model, silently.
-// Refused before anything is written, so that workspace stays as it is. A video's images are the
-// keyframes in its own folder (video_frames.h).
+// Refused before anything is written, so that workspace stays as it is. A photo belongs to the
+// input when the folder holds a file of its name (the extraction lists the folder itself, with
+// its warnings); a video's images are the keyframes in its own folder (video_frames.h).
 void CheckWorkspaceHoldsOnlyInput(const std::filesystem::path& workspace,
                                   const std::filesystem::path& input, bool video) {
   if (!std::filesystem::exists(workspace)) return;
-  std::unordered_set<std::string> names;
-  std::string folder;
-  if (video) {
-    folder = VideoFramesFolderName(workspace, input) + "/";
-  } else {
-    for (std::string& name : ListImages(input)) names.insert(std::move(name));
-  }
+  const std::string folder = video ? VideoFramesFolderName(workspace, input) + "/" : "";
   std::vector<std::string> others;
   for (const DbImage& image : Database(workspace).ReadAllImages())
-    if (video ? !image.name.starts_with(folder) : !names.contains(image.name))
+    if (video ? !image.name.starts_with(folder)
+              : !std::filesystem::is_regular_file(input / image.name))
       others.push_back(image.name);
   if (others.empty()) return;
   Fail(

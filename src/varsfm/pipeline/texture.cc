@@ -37,8 +37,8 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   info(
       "texture: {} of {} faces textured, the mesh covers {:.1f} % of the photos, {} views of "
       "faces rejected as inconsistent, {} charts, {} atlas page(s) ({:.1f} Mpx, {:.0f} % inside "
-      "faces) in {:.1f} s "
-      "(selection {:.1f}, levelling {:.1f}, atlas {:.1f}) -> {}/textured/model.obj, model.glb",
+      "faces) in {:.1f} s (selection {:.1f}, levelling {:.1f}, atlas {:.1f}) -> "
+      "{}/textured/model.obj, model.glb",
       s.num_textured_faces, s.num_faces, 100 * s.mean_coverage, s.num_rejected_observations,
       s.num_charts, s.num_pages, s.atlas_pixels / 1e6,
       100 * s.face_texels / std::max<size_t>(1, s.atlas_pixels), result.seconds,
