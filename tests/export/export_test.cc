@@ -2,11 +2,14 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 
 #include "export/scene.h"
 #include "support/test_data.h"
 #include "varsfm/export/gaussian_splatting.h"
 #include "varsfm/export/nerfstudio.h"
+#include "varsfm/image/exif.h"
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/pipeline/export.h"
 #include "varsfm/util/error.h"
@@ -137,6 +140,45 @@ TEST(NerfstudioExport, WritesTransformsPhotosAndPoints) {
     EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / frame["file_path"].get<std::string>()));
   }
   EXPECT_TRUE(fs::is_regular_file(tmp.path() / "ns" / "sparse_pc.ply"));
+}
+
+// A JPEG stored turned, with the EXIF orientation 6 that turns it upright: the model's camera is
+// that of the upright pixels, which nerfstudio's loader does not turn; the export writes it
+// upright.
+TEST(NerfstudioExport, APhotoStoredTurnedIsWrittenUpright) {
+  TempDir tmp("export_nerfstudio_turned");
+  Reconstruction model = ZoomingModel();
+  const image_t turned = model.images().begin()->first;
+  model.image(turned).name = "turned.jpg";
+  testing::WritePhotos(model, tmp.path() / "photos");
+  const fs::path photo = tmp.path() / "photos" / "turned.jpg";
+  const cv::Mat upright = ReadImagePixels(photo);
+  cv::Mat stored;
+  cv::rotate(upright, stored, cv::ROTATE_90_COUNTERCLOCKWISE);  // orientation 6 turns it back
+  WriteImage(photo, stored);
+  std::vector<uint8_t> jpeg = ReadImageFile(photo);
+  // An APP1 segment after the start-of-image marker: "Exif\0\0", a little-endian TIFF header,
+  // IFD0 with the one Orientation entry (0x0112, SHORT, 1 value: 6).
+  const std::vector<uint8_t> exif = {'E',  'x',  'i', 'f', 0, 0, 'I', 'I', 42, 0, 8, 0, 0, 0, 1, 0,
+                                     0x12, 0x01, 3,   0,   1, 0, 0,   0,   6,  0, 0, 0, 0, 0, 0, 0};
+  std::vector<uint8_t> segment = {0xFF, 0xE1, 0, static_cast<uint8_t>(exif.size() + 2)};
+  segment.insert(segment.end(), exif.begin(), exif.end());
+  jpeg.insert(jpeg.begin() + 2, segment.begin(), segment.end());
+  std::ofstream(photo, std::ios::binary)
+      .write(reinterpret_cast<const char*>(jpeg.data()), static_cast<std::streamsize>(jpeg.size()));
+  ASSERT_EQ(ReadImagePixels(photo).size(), upright.size()) << "the test photo is not tagged";
+
+  ExportNerfstudio(model, tmp.path() / "photos", tmp.path() / "ns");
+  const std::vector<uint8_t> written = ReadImageFile(tmp.path() / "ns" / "images" / "turned.jpg");
+  EXPECT_EQ(ExifOrientation(written.data(), written.size()), 1);
+  const cv::Mat pixels = DecodeImage("turned.jpg", written, ColorMode::kColor);
+  ASSERT_EQ(pixels.size(), upright.size());
+  EXPECT_LT(cv::norm(pixels, upright, cv::NORM_L1) / upright.total() / 3, 4.0);  // JPEG's loss
+  // An upright photo is copied as it is.
+  for (const auto& [id, image] : model.images())
+    if (id != turned)
+      EXPECT_EQ(ReadImageFile(tmp.path() / "photos" / image.name),
+                ReadImageFile(tmp.path() / "ns" / "images" / image.name));
 }
 
 TEST(ExportOptions, CheckRefusesBadValues) {

@@ -198,6 +198,8 @@ TEST(MapStage, ResultsOfTheEarlierModelGo) {
     std::ofstream(options.output / file) << "from an earlier model";
   }
   std::ofstream(options.output / "notes.txt") << "the user's";
+  // The earlier model's summary: the folder is one varsfm wrote (output_folder.h).
+  std::ofstream(options.output / "summary.json") << "{}";
   RunMapping(options);
   for (const fs::path& file : stale) EXPECT_FALSE(fs::exists(options.output / file)) << file;
   EXPECT_FALSE(fs::exists(options.output / "textured"));

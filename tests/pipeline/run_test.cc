@@ -206,6 +206,44 @@ TEST(RunCommand, AnOutputFolderOfOtherPhotosIsRefused) {
   EXPECT_NE(log.find("4 of 5 images already extracted"), std::string::npos) << log;
 }
 
+// `run` and `map` replace their earlier results in their output folder, so a folder they did not
+// write is refused before anything is read or removed: a user's folder of other files, and the
+// photo folder itself or a folder inside it (a second run would read the first one's texture
+// atlas as a photo).
+TEST(RunCommand, AFolderVarsfmDidNotWriteIsRefused) {
+  TempDir tmp("foreign-output");
+  const auto photos = tmp.path() / "photos", foreign = tmp.path() / "foreign";
+  std::filesystem::create_directories(photos);
+  std::filesystem::create_directories(foreign / "textured");
+  std::ofstream(foreign / "textured" / "notes.txt") << "mine";
+  std::ofstream(foreign / "mesh.ply") << "mine";
+  const auto expect_refused = [&](const std::string& command, const std::string& reason) {
+    std::string log;
+    EXPECT_EQ(RunCommand(command, &log), 1) << log;
+    EXPECT_NE(log.find(reason), std::string::npos) << log;
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 1) << log;
+  };
+  const std::string varsfm = ShellQuote(VarsfmBinary());
+  expect_refused(fmt::format("{} run {} {}", varsfm, ShellQuote(photos), ShellQuote(foreign)),
+                 "holds other files and no workspace.db, sparse/");
+  expect_refused(fmt::format("{} map --workspace {} --output {}", varsfm,
+                             ShellQuote(tmp.path() / "workspace.db"), ShellQuote(foreign)),
+                 "holds other files and no workspace.db, sparse/");
+  EXPECT_EQ(ReadBytes(foreign / "textured" / "notes.txt"), "mine");
+  EXPECT_EQ(ReadBytes(foreign / "mesh.ply"), "mine");
+
+  for (const auto& inside : {photos / "out", photos, photos / "." / "a" / ".." / "b"})
+    expect_refused(fmt::format("{} run {} {}", varsfm, ShellQuote(photos), ShellQuote(inside)),
+                   "or inside it");
+  EXPECT_FALSE(std::filesystem::exists(photos / "out"));
+  // A sibling whose name starts with the photo folder's is not inside it.
+  std::string log;
+  RunCommand(
+      fmt::format("{} run {} {}", varsfm, ShellQuote(photos), ShellQuote(tmp.path() / "photos2")),
+      &log);
+  EXPECT_EQ(log.find("or inside it"), std::string::npos) << log;
+}
+
 TEST(RunCommand, MissingInputIsAOneLineError) {
   TempDir tmp("missing");
   std::string out;

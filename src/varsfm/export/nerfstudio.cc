@@ -1,6 +1,8 @@
 #include "varsfm/export/nerfstudio.h"
 
 #include "varsfm/export/exported_images.h"
+#include "varsfm/image/exif.h"
+#include "varsfm/image/image_file.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
@@ -64,7 +66,14 @@ NerfstudioExportSummary ExportNerfstudio(const Reconstruction& reconstruction,
     for (const image_t id : image_ids) {
       const std::string& name = reconstruction.image(id).name;
       std::filesystem::create_directories((dir / "images" / name).parent_path());
-      std::filesystem::copy_file(image_dir / name, dir / "images" / name);
+      // The model's cameras are those of the upright pixels (EXIF orientation applied), which
+      // nerfstudio's loader does not apply: a photo stored turned or mirrored is written upright
+      // (re-encoded, its EXIF dropped); the others are copied as they are.
+      const std::vector<uint8_t> bytes = ReadImageFile(image_dir / name);
+      if (ExifOrientation(bytes.data(), bytes.size()) == 1)
+        std::filesystem::copy_file(image_dir / name, dir / "images" / name);
+      else
+        WriteImage(dir / "images" / name, DecodeImage(image_dir / name, bytes, ColorMode::kColor));
     }
     WritePly(reconstruction, dir / "sparse_pc.ply");
     WriteJsonAtomically(dir / "transforms.json", transforms);

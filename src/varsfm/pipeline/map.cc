@@ -13,6 +13,7 @@
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/database.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -240,6 +241,8 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
   // Before the work: a mistyped folder would otherwise leave every point grey without a word.
   if (!options.image_dir.empty() && !std::filesystem::is_directory(options.image_dir))
     Fail("image folder {} does not exist", options.image_dir.string());
+  CheckOutputFolderIsOurs(options.output);
+  if (!options.image_dir.empty()) CheckOutputOutsideImages(options.output, options.image_dir);
   Timer total;
   LoadedWorkspace ws = LoadWorkspace(options);
   std::future<KeypointColors> colors;

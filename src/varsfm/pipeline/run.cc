@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "varsfm/io/database.h"
+#include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
@@ -46,7 +47,7 @@ void CheckWorkspaceHoldsOnlyInput(const std::filesystem::path& workspace,
   if (others.empty()) return;
   Fail(
       "{} holds {} image(s) that are not {} {} (e.g. {}): it was made from other photos; give a "
-      "new output folder, or delete that workspace to start afresh",
+      "new output folder, or empty this one to start afresh",
       workspace.string(), others.size(), video ? "keyframes of" : "in", input.string(),
       others.front());
 }
@@ -97,6 +98,8 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   const bool created_output = !fs::exists(options.output);
+  CheckOutputFolderIsOurs(options.output);
+  if (!video) CheckOutputOutsideImages(options.output, options.input);
   CheckWorkspaceHoldsOnlyInput(options.output / "workspace.db", options.input, video);
   CreateFolder(options.output);
 

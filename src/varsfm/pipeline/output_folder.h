@@ -1,0 +1,21 @@
+#pragma once
+// The guards of a stage that rewrites a whole output folder (`run`, `map`): before writing its
+// model it removes what earlier runs left there (stale dense clouds, meshes, textured models,
+// numbered models), which is right in a folder varsfm made and wrong anywhere else -- a user's
+// folder of other files, or the photos themselves.
+#include <filesystem>
+
+namespace varsfm {
+
+// Throws varsfm::Error (one line naming `output`) when `output` is a folder that holds files but
+// none of the marks of a varsfm output (workspace.db, sparse/, summary.json): the stage would
+// delete or overwrite files it did not write. A new or empty folder, or one varsfm wrote, passes.
+void CheckOutputFolderIsOurs(const std::filesystem::path& output);
+
+// Throws varsfm::Error when `output` is `image_dir` or lies inside it: the photos are listed
+// with their subfolders, so a second run would read the first one's texture atlas and renders as
+// photos of the scene.
+void CheckOutputOutsideImages(const std::filesystem::path& output,
+                              const std::filesystem::path& image_dir);
+
+}  // namespace varsfm
