@@ -212,6 +212,17 @@ TEST(Evaluate, CommandLine) {
       1);
   EXPECT_NE(output.find("nope: model folder does not exist"), std::string::npos) << output;
   EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
+  // Ground truth of other images (none of the model's names): an error, not an empty report.
+  fs::create_directories(tmp.path() / "other_gt");
+  for (const fs::directory_entry& file : fs::directory_iterator(tmp.path() / "gt"))
+    fs::copy_file(file.path(), tmp.path() / "other_gt" / ("x" + file.path().filename().string()));
+  EXPECT_EQ(testing::RunCommand(
+                fmt::format("{} evaluate {} --gt {}", varsfm.string(),
+                            (tmp.path() / "model").string(), (tmp.path() / "other_gt").string()),
+                &output),
+            1);
+  EXPECT_NE(output.find("has a camera in the ground truth"), std::string::npos) << output;
+  EXPECT_EQ(std::count(output.begin(), output.end(), '\n'), 1) << output;
 }
 
 }  // namespace

@@ -117,6 +117,18 @@ TEST_F(CommandLineErrors, OutputThatCannotBeCreatedIsAOneLineError) {
       (file / "out").string() + ": cannot create");
 }
 
+TEST_F(CommandLineErrors, APhotoGivenForTheFolderAndAFolderForTheVideoAreNamed) {
+  const auto photo = tmp_.path() / "a.jpg";
+  std::ofstream(photo) << "x";
+  ExpectOneLineError(
+      RunVarsfm(fmt::format("run {} {}", ShellQuote(photo), ShellQuote(tmp_.path() / "out"))), 1,
+      "is a photo: give the folder of the photos");
+  ExpectOneLineError(RunVarsfm(fmt::format("extract --workspace {} --video {}", workspace_,
+                                           ShellQuote(tmp_.path()))),
+                     1, "is a folder: give a video file");
+  EXPECT_FALSE(std::filesystem::exists(tmp_.path() / "out"));
+}
+
 TEST_F(CommandLineErrors, HelpIsTheFullHelp) {
   std::string help;
   ASSERT_EQ(RunCommand(ShellQuote(VarsfmBinary()) + " match --help", &help), 0) << help;

@@ -121,6 +121,17 @@ TEST(TextureCommand, BadInputIsAOneLineError) {
   EXPECT_EQ(texture(out / "mesh.ply"), 1);
   EXPECT_NE(log.find("no registered images"), std::string::npos) << log;
   EXPECT_FALSE(std::filesystem::exists(out / "o" / "model.glb"));
+  // Settings under which no photo sees any face: an error, not an untextured model.
+  WriteSyntheticInputs(out, 3);
+  EXPECT_EQ(RunCommand(fmt::format("{} texture --mesh {} --sparse {} --images {} --output {} "
+                                   "--min-cos 1",
+                                   ShellQuote(VarsfmBinary()), ShellQuote(out / "mesh.ply"),
+                                   ShellQuote(out / "sparse"), ShellQuote(out / "images"),
+                                   ShellQuote(out / "o")),
+                       &log),
+            1);
+  EXPECT_NE(log.find("nothing to texture"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(out / "o" / "model.glb"));
 
   EXPECT_EQ(RunCommand(
                 fmt::format("{} render --model {} --camera nope.png --output {}",

@@ -50,14 +50,30 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
   return names;
 }
 
+std::string LowerCaseExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// Photo formats of cameras and phones that varsfm does not decode (HEIF is the iPhone's default;
+// camera raw files; WebP, GIF, JPEG 2000, AVIF, PNM): skipped like any other file, but named in a
+// warning, since a user who gave them meant them as photos.
+bool IsUnreadablePhotoFormat(const fs::path& path) {
+  static constexpr std::array<const char*, 17> kExtensions = {
+      ".heic", ".heif", ".webp", ".gif", ".jp2", ".j2k", ".avif", ".pgm", ".ppm",
+      ".pnm",  ".pbm",  ".dng",  ".cr2", ".cr3", ".nef", ".arw",  ".raf"};
+  const std::string ext = LowerCaseExtension(path);
+  return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
+}
+
 }  // namespace
 
 bool HasImageExtension(const fs::path& path) {
   static constexpr std::array<const char*, 7> kExtensions = {".jpg",  ".jpeg", ".png", ".tif",
                                                              ".tiff", ".bmp",  ".jpe"};
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
 
@@ -69,6 +85,7 @@ std::vector<std::string> ListImages(const fs::path& dir) {
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
 
   std::vector<FoundImage> found;
+  std::vector<std::string> unreadable;  // photos in formats varsfm does not read
   fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink, ec);
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
@@ -89,7 +106,10 @@ std::vector<std::string> ListImages(const fs::path& dir) {
       }
       continue;
     }
-    if (!HasImageExtension(it->path())) continue;
+    if (!HasImageExtension(it->path())) {
+      if (IsUnreadablePhotoFormat(it->path())) unreadable.push_back(name);
+      continue;
+    }
     const bool is_file = it->is_regular_file(status_ec);
     if (status_ec) {
       const bool loop = status_ec == std::errc::too_many_symbolic_link_levels;
@@ -104,6 +124,11 @@ std::vector<std::string> ListImages(const fs::path& dir) {
     }
     found.push_back({name, std::move(file)});
   }
+  if (!unreadable.empty())
+    warn(
+        "skipping {} photo(s) in a format varsfm does not read (e.g. {}): convert them to JPEG or "
+        "PNG",
+        unreadable.size(), unreadable.front());
   return OneNamePerFile(std::move(found), root);
 }
 

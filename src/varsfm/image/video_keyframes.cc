@@ -113,12 +113,21 @@ std::vector<size_t> EvenSubsample(size_t total, size_t count) {
 
 }  // namespace
 
+void CheckVideoFileExists(const std::filesystem::path& video) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(video, ec))
+    Fail("video {} is a folder: give a video file (a folder of photos goes to --images)",
+         video.string());
+  if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
+}
+
 KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
                                  const std::filesystem::path& output_dir,
                                  const KeyframeOptions& options) {
   namespace fs = std::filesystem;
+  CheckVideoFileExists(video);
   std::error_code ec;
-  if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
   VideoReader capture(video);
 
   KeyframeSummary summary;

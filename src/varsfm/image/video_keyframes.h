@@ -46,6 +46,9 @@ struct KeyframeSummary {
   size_t frames_blurred = 0;
 };
 
+// Throws varsfm::Error (one line naming `video`) when it is a folder or no file.
+void CheckVideoFileExists(const std::filesystem::path& video);
+
 // Decodes `video` and writes its keyframes as `output_dir`/frame_NNNNNN.jpg (NNNNNN = frame
 // index in the video), creating the folder when the first keyframe is written. Deterministic:
 // the same video and options give the same files. Throws varsfm::Error (one line naming the

@@ -57,6 +57,13 @@ EvaluationReport RunEvaluation(const EvaluateOptions& options, OptionsCheck chec
   const GroundTruth ground_truth = ReadStrechaGroundTruth(options.gt_dir);
   EvaluationReport report =
       EvaluateAgainstGroundTruth(reconstruction, ground_truth, options.evaluation);
+  // Images are paired with their ground truth by name: none paired is ground truth of another
+  // scene (or named otherwise), not a model with no accuracy.
+  if (report.num_model_images > 0 && report.num_registered == 0)
+    Fail(
+        "none of the {} registered images of {} has a camera in the ground truth {} (images are "
+        "paired by name): ground truth of another scene?",
+        report.num_model_images, options.model_dir.string(), options.gt_dir.string());
   if (!options.json_path.empty()) WriteJson(options.json_path, ToJson(report));
   return report;
 }

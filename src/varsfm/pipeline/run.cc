@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/video_frames.h"
@@ -93,6 +94,8 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   if (!fs::exists(options.input)) Fail("input {} does not exist", options.input.string());
   const bool video = fs::is_regular_file(options.input);
+  if (video && HasImageExtension(options.input))
+    Fail("input {} is a photo: give the folder of the photos (or a video)", options.input.string());
   if (options.output.empty()) Fail("no output folder given");
   const auto runs = [&](RunStage stage) { return stage <= options.until; };
   if (fs::exists(options.output) && !fs::is_directory(options.output))

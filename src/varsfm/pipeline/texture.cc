@@ -30,6 +30,11 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   TextureSummary result;
   const TexturedMesh textured =
       TextureFromModel(mesh, rec, options.image_dir, options.texture, &result.stats);
+  if (result.stats.num_textured_faces == 0)
+    Fail(
+        "texture: no face of {} ({} faces) is seen by a registered photo within the texture "
+        "settings: nothing to texture",
+        options.mesh.string(), result.stats.num_faces);
   WriteTexturedObj(options.output / "textured", textured, "model");
   WriteGlb(options.output / "model.glb", textured);
   result.seconds = timer.Seconds();

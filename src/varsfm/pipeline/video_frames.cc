@@ -32,8 +32,8 @@ fs::path VideoFramesDir(const fs::path& workspace) {
 }
 
 std::string VideoFramesFolderName(const fs::path& workspace, const fs::path& video) {
+  CheckVideoFileExists(video);
   std::error_code ec;
-  if (!fs::is_regular_file(video, ec)) Fail("video {} does not exist", video.string());
   const fs::path frames = VideoFramesDir(workspace);
   const std::string identity = FileFingerprint(video);
   const std::string stem = video.stem().string();
