@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "support/test_data.h"
@@ -47,6 +48,25 @@ TEST(CorruptMeshPly, FaceIndexBeyondInt) {
            "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 "
         << index << "\n";
     EXPECT_THROW(ReadMeshPly(tmp.path() / "m.ply"), Error) << index;
+  }
+}
+
+// A mesh with a NaN or infinite vertex was textured, exit 0, into an OBJ of `v nan ...` lines.
+TEST(CorruptMeshPly, NonFiniteVertexNamesTheFileAndVertex) {
+  TempDir tmp("corrupt_mesh_ply");
+  for (const double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    TriangleMesh mesh;
+    mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, bad}, {0, 0, 1}};
+    mesh.faces = {{0, 1, 2}, {0, 1, 3}};
+    const auto file = tmp.path() / "mesh.ply";
+    WriteMeshPly(file, mesh);
+    try {
+      ReadMeshPly(file);
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), file.string() + " has non-finite coordinates (vertex 2)");
+    }
   }
 }
 

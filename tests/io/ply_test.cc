@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 
 #include "io/synthetic_model.h"
 #include "support/test_data.h"
@@ -120,6 +121,38 @@ TEST(Ply, VisibilityRoundTripAndBadIndexRefused) {
                                          "property double y\nproperty double z\nend_header\n"
                                          "1 2 3 2 0 1\n0 0 0\n";
   EXPECT_THROW(ReadPly(tmp.path() / "a.ply"), Error);
+}
+
+// A NaN or an infinity crashed screened Poisson and hung the grids downstream: the reader
+// refuses it with one line naming the file and the vertex, for points, normals and viewpoints.
+TEST(Ply, NonFiniteValuesAreRefusedNamingTheVertex) {
+  testing::TempDir tmp("ply_non_finite");
+  const auto expect_error = [](const PointCloud& cloud, const fs::path& file,
+                               const std::string& words) {
+    WritePly(file, cloud, {.double_precision = true});
+    try {
+      ReadPly(file);
+      ADD_FAILURE() << "no error for " << words;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(words), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+  };
+  PointCloud nan = TestCloud();
+  nan.points[7].y() = std::numeric_limits<double>::quiet_NaN();
+  expect_error(nan, tmp.path() / "nan.ply", "has non-finite coordinates (vertex 7)");
+  PointCloud inf = TestCloud();
+  inf.points[0].x() = -std::numeric_limits<double>::infinity();
+  expect_error(inf, tmp.path() / "inf.ply", "has non-finite coordinates (vertex 0)");
+  PointCloud normal = TestCloud();
+  normal.normals[3].z() = std::numeric_limits<double>::infinity();
+  expect_error(normal, tmp.path() / "normal.ply", "has a non-finite normal (vertex 3)");
+  PointCloud viewpoint = TestCloud();
+  viewpoint.viewpoints = {{0, 0, -5}, {0, std::numeric_limits<double>::quiet_NaN(), 0}};
+  viewpoint.visibility.assign(viewpoint.points.size(), {0});
+  expect_error(viewpoint, tmp.path() / "viewpoint.ply", "viewpoint 1 has non-finite coordinates");
 }
 
 TEST(Ply, ReadsColmapsPlyExport) {

@@ -191,6 +191,27 @@ TEST(Surface, AdvancingFrontDownsamplesLargeCloudsToTheLimit) {
   EXPECT_EQ(ComputeEdgeTopology(mesh).non_manifold_edges, 0u);
 }
 
+TEST(Surface, AFaceBudgetBelowTheMeshCheckIsNoBrokenMesh) {
+  // The check wants about 2 % of the point count in faces (80 here); it judges the surface
+  // before decimation, so a smaller budget the user asked for is met, not refused.
+  SurfaceOptions options = Poisson();
+  SurfaceStats full;
+  const TriangleMesh undecimated = ReconstructSurface(Sphere(4000), options, &full);
+  options.decimation.max_faces = 40;
+  SurfaceStats stats;
+  const TriangleMesh mesh = ReconstructSurface(Sphere(4000), options, &stats);
+  EXPECT_LE(mesh.faces.size(), 60u);
+  EXPECT_EQ(stats.decimated_faces + mesh.faces.size(), undecimated.faces.size());
+  EXPECT_EQ(stats.quality.num_faces, mesh.faces.size());  // the stats describe the result
+  EXPECT_EQ(mesh.colors.size(), mesh.vertices.size());    // the new vertices are coloured
+  // An open hemisphere's boundary keeps decimation short of a 4-face budget: what it reached
+  // is the result.
+  SurfaceStats open;
+  const TriangleMesh hemisphere = ReconstructSurface(Sphere(6000, 0.0), options, &open);
+  EXPECT_GT(open.decimated_faces, 0u);
+  EXPECT_GT(hemisphere.faces.size(), 4u);
+}
+
 TEST(Surface, BadInputGivesOneLineErrorNamingTheFile) {
   testing::TempDir dir("mesh_bad_input");
   const auto expect_error = [](const std::filesystem::path& file, SurfaceMethod method,

@@ -86,7 +86,10 @@ TriangleMesh ReadMeshPly(const fs::path& file) {
       if (!ply::ReadRecord(reader, e, &values, &lists))
         Fail("{}: truncated or malformed PLY data", file.string());
       if (is_vertex) {
-        mesh.vertices.emplace_back(values[ix], values[iy], values[iz]);
+        // A non-finite vertex would reach the texture's rasteriser and the OBJ written from it
+        // (`v nan ...`): refused with the file's name, for every stage that reads a mesh.
+        if (!mesh.vertices.emplace_back(values[ix], values[iy], values[iz]).allFinite())
+          Fail("{} has non-finite coordinates (vertex {})", file.string(), r);
         if (has_colors)
           mesh.colors.emplace_back(ply::ColorByte(values[ir]), ply::ColorByte(values[ig]),
                                    ply::ColorByte(values[ib]));

@@ -35,8 +35,12 @@ void ReadViewpoints(ply::ValueReader& reader, const ply::Header& header, const f
     for (size_t r = 0; r < element.count; ++r) {
       if (!ply::ReadRecord(reader, element, &values, &lists))
         Fail("{}: truncated at {} {}", file.string(), element.name, r);
-      if (viewpoint)
-        cloud->viewpoints.emplace_back(values[index["x"]], values[index["y"]], values[index["z"]]);
+      if (!viewpoint) continue;
+      const Eigen::Vector3d& centre = cloud->viewpoints.emplace_back(
+          values[index["x"]], values[index["y"]], values[index["z"]]);
+      // A ray from a non-finite camera centre would walk the tetrahedra with NaN parameters.
+      if (!centre.allFinite())
+        Fail("{}: viewpoint {} has non-finite coordinates", file.string(), r);
     }
     if (viewpoint) break;
   }
@@ -154,8 +158,16 @@ PointCloud ReadPly(const fs::path& file) {
     auto vec = [&](const char* a, const char* b, const char* c) {
       return Eigen::Vector3d(values[index[a]], values[index[b]], values[index[c]]);
     };
+    // Refused here, where the file is known, rather than by every stage: a NaN or an infinity
+    // crashes the Poisson octree and sends grids and the Delaunay surface's ray walks astray.
     cloud.points.push_back(vec("x", "y", "z"));
-    if (normals) cloud.normals.push_back(vec("nx", "ny", "nz"));
+    if (!cloud.points.back().allFinite())
+      Fail("{} has non-finite coordinates (vertex {})", file.string(), v);
+    if (normals) {
+      cloud.normals.push_back(vec("nx", "ny", "nz"));
+      if (!cloud.normals.back().allFinite())
+        Fail("{} has a non-finite normal (vertex {})", file.string(), v);
+    }
     if (colors)
       cloud.colors.emplace_back(ply::ColorByte(values[index["red"]]),
                                 ply::ColorByte(values[index["green"]]),

@@ -9,13 +9,19 @@
 namespace varsfm {
 namespace {
 
-Eigen::Vector3i CellOf(const Eigen::Vector3d& p, double size) {
-  return (p / size).array().floor().cast<int>();
+using Cell = Eigen::Matrix<int64_t, 3, 1>;
+
+// 64-bit cells, clamped before the conversion: a cloud far from the origin (or a far outlier)
+// puts p / size beyond int, whose conversion is undefined. Within int the cells, and so the keys
+// below, are what 32-bit cells gave.
+Cell CellOf(const Eigen::Vector3d& p, double size) {
+  constexpr double kLimit = 4e18;  // below 2^63
+  return (p / size).array().floor().max(-kLimit).min(kLimit).cast<int64_t>();
 }
 
 // 21 bits per axis: cells wrap around beyond +-1e6 cells, which only merges far-apart buckets
 // (queries still compare true distances).
-uint64_t Key(const Eigen::Vector3i& c) {
+uint64_t Key(const Cell& c) {
   const uint64_t mask = (1u << 21) - 1;
   return ((static_cast<uint64_t>(c.x()) & mask) << 42) |
          ((static_cast<uint64_t>(c.y()) & mask) << 21) | (static_cast<uint64_t>(c.z()) & mask);
@@ -27,11 +33,11 @@ using CellMap = std::unordered_map<uint64_t, std::vector<size_t>>;
 // each from -1 to 1, a cell's points as inserted): a search over them sees every point within
 // one cell size of any point of c.
 template <typename Visit>
-void ForEachInNeighbourCells(const CellMap& cells, const Eigen::Vector3i& c, Visit&& visit) {
+void ForEachInNeighbourCells(const CellMap& cells, const Cell& c, Visit&& visit) {
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz) {
-        const auto it = cells.find(Key(c + Eigen::Vector3i(dx, dy, dz)));
+        const auto it = cells.find(Key(c + Cell(dx, dy, dz)));
         if (it == cells.end()) continue;
         for (const size_t j : it->second) visit(j);
       }
@@ -102,7 +108,7 @@ double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t 
     size_t count = 0;
     bool all_found = true;
     for (size_t i = 0; i < points.size() && all_found; i += stride) {
-      const Eigen::Vector3i c = CellOf(points[i], cell);
+      const Cell c = CellOf(points[i], cell);
       double best = std::numeric_limits<double>::infinity();
       ForEachInNeighbourCells(cells, c, [&](size_t j) {
         if (j != i) best = std::min(best, (points[j] - points[i]).squaredNorm());
@@ -124,7 +130,7 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_siz
 }
 
 std::optional<size_t> PointGrid::NearestWithinCell(const Eigen::Vector3d& query) const {
-  const Eigen::Vector3i c = CellOf(query, cell_size_);
+  const Cell c = CellOf(query, cell_size_);
   double best = cell_size_ * cell_size_;
   std::optional<size_t> nearest;
   ForEachInNeighbourCells(cells_, c, [&](size_t j) {

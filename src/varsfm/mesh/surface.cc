@@ -8,6 +8,7 @@
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/screened_poisson.h"
+#include "varsfm/mesh/surface_points.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
@@ -18,9 +19,10 @@ namespace {
 // Downsamples with a growing voxel until at most max_points remain. Points sample surfaces, so
 // the count falls about as the square of the voxel size: each step jumps by that estimate
 // (at least 1.1x) rather than by a fixed factor, which took ~6 passes over a million points.
-PointCloud LimitPoints(const PointCloud& cloud, size_t max_points) {
+// `spacing`: the cloud's AverageNearestSpacing, positive (CheckPointSpacing), so the voxel grows.
+PointCloud LimitPoints(const PointCloud& cloud, size_t max_points, double spacing) {
   if (cloud.points.size() <= max_points) return cloud;
-  double voxel = AverageNearestSpacing(cloud.points);
+  double voxel = spacing;
   PointCloud reduced = VoxelDownsample(cloud, voxel);
   while (reduced.points.size() > max_points) {
     const double ratio = static_cast<double>(reduced.points.size()) / max_points;
@@ -91,22 +93,29 @@ void SurfaceOptions::Check() const {
   quality.Check();
 }
 
-TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
+TriangleMesh ReconstructSurface(const PointCloud& input, const SurfaceOptions& options,
                                 SurfaceStats* stats) {
-  if (cloud.points.size() < 10) {
-    Fail("{} points are too few for a surface (need at least 10)", cloud.points.size());
+  if (input.points.size() < 10) {
+    Fail("{} points are too few for a surface (need at least 10)", input.points.size());
   }
   const bool poisson = options.method == SurfaceMethod::kScreenedPoisson;
-  if (poisson && !cloud.HasNormals()) Fail("Poisson reconstruction needs point normals");
+  if (poisson && !input.HasNormals()) Fail("Poisson reconstruction needs point normals");
   SurfaceStats local;
   SurfaceStats& s = stats ? *stats : local;
   s = {};
-  s.input_points = cloud.points.size();
+  s.input_points = input.points.size();
+  // surface_points.h: no method gets a cloud with no extent, far outliers or a spread beyond its
+  // spacing. A cloud without far points is used as it is.
+  const RobustBounds bounds = MeasureRobustBounds(input.points);
+  CheckSpatialExtent(bounds, input.points.size());
+  const std::optional<PointCloud> near = WithoutFarPoints(input, bounds);
+  const PointCloud& cloud = near ? *near : input;
+  const double cloud_spacing = AverageNearestSpacing(cloud.points);
+  CheckPointSpacing(cloud.points, cloud_spacing);
 
   TriangleMesh mesh;
-  double spacing = 0;
+  double spacing = cloud_spacing;
   if (options.method == SurfaceMethod::kScreenedPoisson) {
-    spacing = AverageNearestSpacing(cloud.points);
     s.used_points = cloud.points.size();
     s.depth = ChooseDepth(cloud, spacing, options);
     spdlog::info("surface: screened Poisson on {} points, average spacing {:.4g}, depth {}",
@@ -118,13 +127,12 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
     if (options.density_trim_levels > 0)
       TrimByDensity(surface.densities, s.depth - options.density_trim_levels, &mesh);
   } else if (options.method == SurfaceMethod::kDelaunay) {
-    spacing = AverageNearestSpacing(cloud.points);
     mesh = ReconstructDelaunaySurface(cloud, spacing, options.delaunay, &s.delaunay);
     s.used_points = s.delaunay.merged_points;
     s.faces_before_trim = mesh.faces.size() + s.delaunay.long_faces + s.delaunay.removed_faces;
   } else {
-    const PointCloud used = LimitPoints(cloud, options.max_points);
-    spacing = AverageNearestSpacing(used.points);
+    const PointCloud used = LimitPoints(cloud, options.max_points, cloud_spacing);
+    if (used.points.size() != cloud.points.size()) spacing = AverageNearestSpacing(used.points);
     s.used_points = used.points.size();
     spdlog::info("surface: {} of {} points, average spacing {:.4g}", used.points.size(),
                  cloud.points.size(), spacing);
@@ -132,16 +140,29 @@ TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& o
     s.faces_before_trim = mesh.faces.size();
   }
   s.average_spacing = spacing;
-  s.decimated_faces = DecimateMesh(options.decimation, &mesh);
-  if (s.decimated_faces > 0)
-    spdlog::info("surface: decimated to {} faces ({} removed)", mesh.faces.size(),
-                 s.decimated_faces);
   const bool trim = poisson && options.trim_factor > 0;
   const double reach = (trim ? options.trim_factor : 3.0) * spacing;
   TrimAndColour(cloud, reach, trim, &mesh);
   if (mesh.faces.empty()) Fail("surface reconstruction left no faces after trimming");
   s.quality = MeasureMeshQuality(mesh, cloud.points, spacing);
+  // The check judges the surface before decimation: whether it is tiny against its points is a
+  // question about the reconstruction, and a face budget the user asked for (any below ~2 % of
+  // the point count) is no broken mesh. Trimmed first, so the budget is not spent on faces
+  // about to go.
   CheckMeshQuality(s.quality, options.quality);
+  s.decimated_faces = DecimateMesh(options.decimation, &mesh);
+  if (s.decimated_faces > 0) {
+    // What the collapses reached, even short of the budget (they stop where no edge can go
+    // without breaking the surface's topology), is the result.
+    if (mesh.faces.empty()) Fail("decimation to {} faces left none", options.decimation.max_faces);
+    spdlog::info(
+        "surface: decimated to {} faces ({} removed{})", mesh.faces.size(), s.decimated_faces,
+        mesh.faces.size() > options.decimation.max_faces
+            ? fmt::format("; no edge left to collapse towards {}", options.decimation.max_faces)
+            : "");
+    TrimAndColour(cloud, reach, /*trim=*/false, &mesh);  // colours the new vertices
+    s.quality = MeasureMeshQuality(mesh, cloud.points, spacing);
+  }
   return mesh;
 }
 

@@ -70,13 +70,17 @@ struct SurfaceStats {
   DelaunaySurfaceStats delaunay;
   size_t faces_before_trim = 0;
   size_t decimated_faces = 0;  // removed by decimation
-  MeshQuality quality;         // of the final mesh against the input points
+  // Of the final mesh against the points (without far outliers); the check judged the mesh
+  // before decimation.
+  MeshQuality quality;
 };
 
-// `options` must have passed Check() (the mesh stage checks them once, where it starts). Throws
-// varsfm::Error when the cloud has too few points, lacks normals (Poisson), the
-// reconstruction fails, or the mesh fails the check. Vertex colours come from the nearest input
-// point when it has colours.
+// `options` must have passed Check() (the mesh stage checks them once, where it starts). Points
+// far from the bulk of the cloud are dropped first, with a warning (surface_points.h). Throws
+// varsfm::Error when the cloud has too few points, lacks normals (Poisson), has no spatial
+// extent or spans far more than its spacing (surface_points.h), the reconstruction fails, or the
+// mesh before decimation fails the check. Vertex colours come from the nearest input point when
+// it has colours.
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats = nullptr);
 
