@@ -6,15 +6,16 @@
 //                  [--dense patchmatch|propagation|seeded|fill|seeded-fill]
 //                  [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
+//                  [--coverage-source true]
 //                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
 //                  [--edge-erosion 4]
-//                  [--seed 42] [--write-cloud FILE]
+//                  [--seed 42] [--write-cloud FILE] [--write-samples FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
-// --source-views, --redundant-weight: the source views (dense/source_views.h);
+// --source-views, --coverage-source, --redundant-weight: the source views (dense/source_views.h);
 // --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
 // (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h);
@@ -51,11 +52,15 @@ struct Arguments {
   std::string cloud_file;  // --write-cloud: the dense cloud as PLY, camera centres beside it
   std::vector<double> hole_edges = {
       static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
+  // --write-samples: every observed sample of the true surface, one line each: x y z, the face,
+  // how many views see it, whether a dense point is within the tolerance, its distance to the
+  // last mesh -- to map where completeness is lost.
+  std::string samples_file;
 };
 
 Arguments ParseArguments(int argc, char** argv) {
   Arguments a;
-  auto& [options, tolerance, dense, edge_factors, cloud_file, hole_edges] = a;
+  auto& [options, tolerance, dense, edge_factors, cloud_file, hole_edges, samples_file] = a;
   const auto parse_list = [](const std::string& text) {
     std::vector<double> values;
     std::stringstream list(text);
@@ -84,6 +89,8 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--planar-iterations", integer(&dense.mvs.planar.num_iterations)},
       {"--redundant-weight", real(&dense.mvs.sources.redundant_point_weight)},
       {"--source-views", integer(&dense.mvs.sources.num_source_views)},
+      {"--coverage-source",
+       [&](const std::string& text) { dense.mvs.sources.coverage_source = text == "true"; }},
       {"--missing-view-penalty", real(&patchmatch.missing_view_penalty)},
       {"--best-views", integer(&patchmatch.num_best_views)},
       {"--max-cost", real(&patchmatch.max_cost)},
@@ -95,6 +102,7 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--two-view-cost", real(&fusion.two_view_max_cost)},
       {"--edge-erosion", integer(&dense.mvs.edges.erosion_px)},
       {"--write-cloud", [&](const std::string& text) { cloud_file = text; }},
+      {"--write-samples", [&](const std::string& text) { samples_file = text; }},
       {"--edge-factors", [&](const std::string& text) { edge_factors = parse_list(text); }},
       {"--hole-edges", [&](const std::string& text) { hole_edges = parse_list(text); }},
   };
@@ -113,7 +121,7 @@ Arguments ParseArguments(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   try {
-    auto [options, tolerance, dense, edge_factors, cloud_file, hole_edges] =
+    auto [options, tolerance, dense, edge_factors, cloud_file, hole_edges, samples_file] =
         ParseArguments(argc, argv);
     options.focal_start = 0.8 * options.width;  // the demo's field of view at any width
     const varsfm::RenderedScene scene = varsfm::RenderSyntheticScene(options);
@@ -179,6 +187,10 @@ int main(int argc, char** argv) {
     // And both on the part three or more views see, as fusion asks (DepthFusionOptions).
     const varsfm::PointGrid grid(cloud.points, score_options.tolerance);
     const auto seen3 = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 3);
+    const auto seen4 = varsfm::SeenByCameras(truth, scene.cameras, scene.poses, 4);
+    const varsfm::MeshDistance mesh_distance(last_mesh);
+    std::ofstream samples;
+    if (!samples_file.empty()) samples.open(samples_file);
     std::printf(
         "| face | centre | normal | observed area | completeness | points' completeness | area "
         "3+ views see | points' completeness there |\n|---|---|---|---|---|---|---|---|\n");
@@ -197,6 +209,10 @@ int main(int argc, char** argv) {
         // The grid's cell is the tolerance: a point within one cell is within the tolerance.
         const bool near = grid.NearestWithinCell(p).has_value();
         observed += 1, observed3 += three, near_point += near, near_point3 += three && near;
+        if (samples.is_open())
+          samples << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << q << ' '
+                  << (three ? (seen4(p) ? 4 : 3) : 2) << ' ' << near << ' ' << mesh_distance(p)
+                  << '\n';
       }
       const auto share = [](size_t part, size_t whole) {
         return whole ? static_cast<double>(part) / whole : 0.0;

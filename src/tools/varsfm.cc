@@ -111,6 +111,9 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
   AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,
                  "source views chosen one at a time: a sparse point two chosen sources see counts "
                  "this much for the next (0 to 1; 1: ranked by score alone)");
+  AddWithDefault(cmd, "--dense-coverage-source", dense->mvs.sources.coverage_source,
+                 "one more source view: the one seeing most of the sparse points no chosen "
+                 "source sees, however short its baseline (true/false)");
   AddWithDefault(
       cmd, "--dense-missing-view-penalty", dense->mvs.patchmatch.missing_view_penalty,
       "a source the pixel's point falls outside of is left out of PatchMatch's cost, "

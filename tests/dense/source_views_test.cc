@@ -15,12 +15,14 @@ constexpr double kFocal = 500;
 
 // Image 1 looks at a wall at depth 10 from the origin. Images 2, 3 and 4 (x = 1.8, -1.8, 1.6:
 // about 10, 10 and 9 degrees of triangulation angle) see only its left half, 100 points; image 5
-// (x = -1.8) sees only its right half, 30 points. Every image looks along +z.
+// (x = -1.8) sees only its right half, 30 points; image 6 (x = 0.3, under 2 degrees: a near
+// neighbour) sees, with image 1 alone, 20 points beyond the right half. Every image looks along
+// +z.
 Reconstruction HalfSeenWall() {
   Reconstruction rec;
   rec.AddCamera(Camera::FromFocal(kWidth, kHeight, kFocal));
-  const double xs[] = {0.0, 1.8, -1.8, 1.6, -1.8};
-  for (int i = 0; i < 5; ++i) {
+  const double xs[] = {0.0, 1.8, -1.8, 1.6, -1.8, 0.3};
+  for (int i = 0; i < 6; ++i) {
     Image image;
     image.image_id = i + 1;
     image.camera_id = rec.cameras().begin()->first;
@@ -39,14 +41,17 @@ Reconstruction HalfSeenWall() {
   };
   for (int i = 0; i < 100; ++i) add_point({-4.0 + 0.03 * i, 0, 10}, {1, 2, 3, 4});
   for (int i = 0; i < 30; ++i) add_point({1.0 + 0.1 * i, 0, 10}, {1, 5});
+  for (int i = 0; i < 20; ++i) add_point({4.0 + 0.05 * i, 0, 10}, {1, 6});
   return rec;
 }
 
 // The sources of every image of HalfSeenWall.
-std::map<image_t, std::vector<image_t>> Sources(int num_sources, double redundant_point_weight) {
+std::map<image_t, std::vector<image_t>> Sources(int num_sources, double redundant_point_weight,
+                                                bool coverage_source = false) {
   SourceViewOptions options;
   options.num_source_views = num_sources;
   options.redundant_point_weight = redundant_point_weight;
+  options.coverage_source = coverage_source;
   return SelectSourceViews(HalfSeenWall(), options);
 }
 
@@ -65,9 +70,26 @@ TEST(SelectSourceViews, LaterSourcesCoverWhatTheFirstOnesDoNotSee) {
   EXPECT_EQ(sources.at(5), (std::vector<image_t>{1}));
 }
 
+TEST(SelectSourceViews, ANearNeighbourSeeingWhatNoSourceSeesComesInAsOneMore) {
+  // Image 6's short baseline ranks it last; but it alone sees 20 of image 1's points, so it comes
+  // in after the three sources. Image 5 has no view beyond image 1 to add.
+  const auto sources = Sources(3, 0.03, true);
+  EXPECT_EQ(sources.at(1), (std::vector<image_t>{3, 2, 5, 6}));
+  EXPECT_EQ(sources.at(5), (std::vector<image_t>{1}));
+  EXPECT_EQ(Sources(3, 0.03, false).at(1), (std::vector<image_t>{3, 2, 5}));
+}
+
+TEST(SelectSourceViews, TheExtraSourceSeesMostOfWhatTheOthersDoNot) {
+  // With two sources (3, 2) both 5's 30 points and 6's 20 are unseen: the extra one is 5. With
+  // four, 4 comes fourth (a third view of the left half still outscores 6's short baseline) and
+  // 6 comes in after it.
+  EXPECT_EQ(Sources(2, 0.03, true).at(1), (std::vector<image_t>{3, 2, 5}));
+  EXPECT_EQ(Sources(4, 0.03, true).at(1), (std::vector<image_t>{3, 2, 5, 4, 6}));
+}
+
 TEST(SelectSourceViews, NoMoreSourcesThanCandidates) {
-  const auto sources = Sources(16, 0.03);
-  EXPECT_EQ(sources.at(1).size(), 4u);
+  const auto sources = Sources(16, 0.03, true);
+  EXPECT_EQ(sources.at(1).size(), 5u);
   EXPECT_EQ(sources.at(2).size(), 3u);
 }
 

@@ -27,7 +27,10 @@ struct ViewGeometry {
 
   // The world point at pixel (x, y) (its centre) and depth.
   Eigen::Vector3d Unproject(int x, int y, double depth) const {
-    const Eigen::Vector3d camera = depth * (K_inv * Eigen::Vector3d(x + 0.5, y + 0.5, 1.0));
+    return UnprojectAt(Eigen::Vector2d(x + 0.5, y + 0.5), depth);
+  }
+  Eigen::Vector3d UnprojectAt(const Eigen::Vector2d& pixel, double depth) const {
+    const Eigen::Vector3d camera = depth * (K_inv * pixel.homogeneous());
     return R.transpose() * (camera - t);
   }
 
@@ -43,6 +46,27 @@ struct ViewGeometry {
 
 size_t PixelIndex(const ViewGeometry& g, const Eigen::Vector2d& pixel) {
   return static_cast<size_t>(pixel.y()) * g.width + static_cast<size_t>(pixel.x());
+}
+
+// The depth at sub-pixel `q` of the plane hypothesis of the pixel q falls in (index j: its depth
+// at the pixel's centre and its normal), where the ray through q meets that plane. A depth map
+// holds a plane per pixel, not a constant: read at the pixel's centre, a surface seen at a
+// grazing angle changes depth within the half pixel between q and that centre by as much as the
+// tolerances allow, so the tests measured the pixel grid rather than the views' disagreement.
+// With the extra source views of surfaces seen from one side (source_views.h) it is what keeps
+// their depths from costing held-out PSNR (bench/results/2026-12-05-s17-coverage-source.md).
+// The pixel's own depth where the plane is too oblique to the ray to extrapolate.
+double PlaneDepthAt(const DepthMap& map, size_t j, const ViewGeometry& g,
+                    const Eigen::Vector2d& q) {
+  const double depth = map.depth[j];
+  if (map.normal.empty()) return depth;
+  const Eigen::Vector3d n = map.normal[j].cast<double>();
+  const Eigen::Vector2d centre(std::floor(q.x()) + 0.5, std::floor(q.y()) + 0.5);
+  const Eigen::Vector3d ray_q = g.K_inv * q.homogeneous();  // z = 1: depth along the axis
+  const Eigen::Vector3d on_plane = depth * (g.K_inv * centre.homogeneous());
+  const double along = n.dot(ray_q);
+  if (std::abs(along) < 0.1 * ray_q.norm()) return depth;  // within ~6 deg of the plane
+  return n.dot(on_plane) / along;
 }
 
 // How many other views confirm the depth of pixel (x, y) of view v: their depth where the point
@@ -61,10 +85,11 @@ int ConsistentViews(const std::vector<FusionView>& views, const std::vector<View
     Eigen::Vector2d q;
     double depth_u;
     if (!geometry[u].Project(X, &q, &depth_u)) continue;
-    const int qx = static_cast<int>(q.x()), qy = static_cast<int>(q.y());
-    const float source_depth = views[u].map.depth[views[u].map.Index(qx, qy)];
+    const size_t j = PixelIndex(geometry[u], q);
+    if (views[u].map.depth[j] <= 0) continue;
+    const double source_depth = PlaneDepthAt(views[u].map, j, geometry[u], q);
     if (source_depth <= 0) continue;
-    const Eigen::Vector3d back = geometry[u].Unproject(qx, qy, source_depth);
+    const Eigen::Vector3d back = geometry[u].UnprojectAt(q, source_depth);
     Eigen::Vector2d p;
     double depth_back;
     if (!g.Project(back, &p, &depth_back)) continue;
@@ -140,13 +165,13 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
           double depth_u;
           if (!geometry[u].Project(X, &q, &depth_u)) continue;
           const size_t j = PixelIndex(geometry[u], q);
-          const float d = views[u].map.depth[j];
-          if (d <= 0 || fused[u][j]) continue;
+          if (views[u].map.depth[j] <= 0 || fused[u][j]) continue;
+          const double d = PlaneDepthAt(views[u].map, j, geometry[u], q);
           if (std::abs(d - depth_u) > options.max_depth_difference * depth_u) continue;
           const Eigen::Vector3d n = world_normal(u, j);
           if (n.dot(normal) < min_cos) continue;
           members.push_back({u, j});
-          sum_x += geometry[u].Unproject(static_cast<int>(q.x()), static_cast<int>(q.y()), d);
+          sum_x += geometry[u].UnprojectAt(q, d);
           sum_n += n;
           sum_c += color_at(u, j);
           seen_by.push_back(views[u].image_id);

@@ -96,6 +96,21 @@ std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& 
       for (const Contribution& c : list)
         if (c.source == best) ++covered[c.point];
     }
+    // One more source for what none of the chosen ones sees, when a view sees enough of it:
+    // Goesele's angle weight ranks a near neighbour low (a short baseline gives imprecise
+    // depths), but where the neighbour is the only other view -- the edges of a capture, a
+    // surface seen from one side -- any depth beats none, which is what fusion's consistency
+    // test then judges.
+    if (options.coverage_source && !chosen.empty()) {
+      std::map<image_t, int> uncovered;
+      for (const Contribution& c : list)
+        if (covered[c.point] == 0) ++uncovered[c.source];
+      image_t best = kInvalidImageId;
+      int best_count = options.min_shared_points - 1;
+      for (const auto& [source, count] : uncovered)  // ascending ids: ties go to the lower id
+        if (count > best_count) best = source, best_count = count;
+      if (best != kInvalidImageId) chosen.push_back(best);
+    }
     if (!chosen.empty()) sources[reference] = std::move(chosen);
   }
   return sources;

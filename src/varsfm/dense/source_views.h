@@ -27,6 +27,9 @@ struct SourceViewOptions {
   // 2026-12-04-source-coverage.md).
   int covered_views = 2;
   double redundant_point_weight = 0.03;
+  // After num_source_views, one more: the view that sees the most of the reference's sparse
+  // points no chosen source sees, when it sees at least min_shared_points of them.
+  bool coverage_source = true;
   // PatchMatch's depth range per view (SparseDepthRange): 0 spans every sparse point it sees.
   double depth_range_percentile = 1.0;
 
