@@ -7,6 +7,7 @@
 #include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
+#include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
@@ -103,6 +104,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   // mesh stage to pick up.
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
   CreateFolder(options.output);
+  RemoveOutputsAfter(options.output, ChainStage::kDensify);
   WritePly(options.output / "dense.ply", cloud);
   WritePointVisibility(options.output / "dense.ply.vis", visibility);
   result.num_points = cloud.points.size();

@@ -187,16 +187,6 @@ void RemoveStaleModels(const std::filesystem::path& sparse, size_t num_models) {
   }
 }
 
-// Removes from OUT what the later stages made from an earlier model there (densify's cloud,
-// mesh's surface, texture's models, the report): a new model makes them stale, and a later stage
-// that fails, or a run that stops before it (`--until`), would otherwise leave them beside the
-// new model for a user or a viewer to take as its result.
-void RemoveOutputsOfEarlierModel(const std::filesystem::path& output) {
-  for (const char* name : {"dense.ply", "dense.ply.vis", "dense_summary.json", "mesh.ply",
-                           "model.glb", "textured", "report.html"})
-    std::filesystem::remove_all(output / name);
-}
-
 // Up to ten image names, then "...".
 std::string SomeNames(const std::vector<std::string>& names) {
   std::string text;
@@ -287,7 +277,7 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
   // `sparse` (and the output folder above it) exists first, so the text and binary writers
   // each rename their own files into it (WriteFilesAtomically) rather than race to rename a
   // whole folder there.
-  RemoveOutputsOfEarlierModel(options.output);
+  RemoveOutputsAfter(options.output, ChainStage::kMap);
   CreateFolder(sparse);
   std::future<void> text =
       std::async(std::launch::async, [&] { WriteColmapModel(rec, sparse, {.binary = false}); });

@@ -4,6 +4,7 @@
 
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
@@ -25,6 +26,7 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
     Fail("{}: {}", options.input.string(), e.what());
   }
   CreateFolder(options.output);
+  RemoveOutputsAfter(options.output, ChainStage::kMesh);
   WriteMeshPly(options.output / "mesh.ply", mesh);
 
   result.num_vertices = mesh.vertices.size();

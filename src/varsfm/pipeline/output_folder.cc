@@ -2,19 +2,29 @@
 
 #include <algorithm>
 #include <system_error>
+#include <vector>
 
 #include "varsfm/util/error.h"
 
 namespace varsfm {
 
+namespace {
+
+// Whether `output` holds what `run` writes first, or what `map` writes first and last (a run
+// stopped between them still counts).
+bool HoldsVarsfmMarks(const std::filesystem::path& output) {
+  std::error_code ec;
+  for (const char* mark : {"workspace.db", "sparse", "summary.json"})
+    if (std::filesystem::exists(output / mark, ec)) return true;
+  return false;
+}
+
+}  // namespace
+
 void CheckOutputFolderIsOurs(const std::filesystem::path& output) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_directory(output, ec) || fs::is_empty(output, ec)) return;
-  // What `run` writes first, and what `map` writes first and last (a run stopped between them
-  // still resumes).
-  for (const char* mark : {"workspace.db", "sparse", "summary.json"})
-    if (fs::exists(output / mark, ec)) return;
+  if (!fs::is_directory(output, ec) || fs::is_empty(output, ec) || HoldsVarsfmMarks(output)) return;
   Fail(
       "output folder {} holds other files and no workspace.db, sparse/ or summary.json of "
       "varsfm's: give a new or empty folder (varsfm replaces its earlier results in a folder it "
@@ -47,6 +57,23 @@ void CheckOutputOutsideImages(const std::filesystem::path& output,
       "output folder {} is the image folder {} or inside it: its files would be read as photos; "
       "give a folder outside it",
       output.string(), image_dir.string());
+}
+
+void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage) {
+  if (!HoldsVarsfmMarks(output)) return;
+  struct StageOutputs {
+    ChainStage stage;
+    std::vector<const char*> names;
+  };
+  static const StageOutputs kOutputs[] = {
+      {ChainStage::kDensify, {"dense.ply", "dense.ply.vis", "dense_summary.json"}},
+      {ChainStage::kMesh, {"mesh.ply"}},
+      {ChainStage::kTexture, {"model.glb", "textured"}},
+      {ChainStage::kReport, {"report.html"}}};
+  std::error_code ec;
+  for (const StageOutputs& outputs : kOutputs)
+    if (outputs.stage > stage)
+      for (const char* name : outputs.names) std::filesystem::remove_all(output / name, ec);
 }
 
 }  // namespace varsfm

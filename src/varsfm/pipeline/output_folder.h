@@ -12,6 +12,16 @@ namespace varsfm {
 // delete or overwrite files it did not write. A new or empty folder, or one varsfm wrote, passes.
 void CheckOutputFolderIsOurs(const std::filesystem::path& output);
 
+// The stages that write into a varsfm output folder, in the order of the chain.
+enum class ChainStage { kMap, kDensify, kMesh, kTexture, kReport };
+
+// Removes from `output` what the stages after `stage` wrote there (densify's cloud, the mesh,
+// the textured model, the report): a new result of `stage` makes them stale, and a later stage
+// that fails or is not run would leave them beside it for a user or a viewer to take as its
+// result. Only in a folder varsfm wrote (the marks of CheckOutputFolderIsOurs); elsewhere
+// nothing is removed.
+void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage);
+
 // Throws varsfm::Error when `output` is `image_dir` or lies inside it: the photos are listed
 // with their subfolders, so a second run would read the first one's texture atlas and renders as
 // photos of the scene.

@@ -4,6 +4,7 @@
 
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/obj_io.h"
+#include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
@@ -35,6 +36,7 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
         "texture: no face of {} ({} faces) is seen by a registered photo within the texture "
         "settings: nothing to texture",
         options.mesh.string(), result.stats.num_faces);
+  RemoveOutputsAfter(options.output, ChainStage::kTexture);
   WriteTexturedObj(options.output / "textured", textured, "model");
   WriteGlb(options.output / "model.glb", textured);
   result.seconds = timer.Seconds();
