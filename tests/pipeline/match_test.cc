@@ -124,6 +124,21 @@ TEST(MatchPipeline, AKilledRunKeepsWhatItCommittedByTime) {
   EXPECT_EQ(Database(workspace).ReadAllTwoViewGeometries().size(), 28u);
 }
 
+// Photos that share nothing: no silent success, a warning says that no pair verified.
+TEST(MatchCommand, NoVerifiedPairIsNamedInAWarning) {
+  TempDir dir("match_none_verified");
+  const auto workspace = dir.path() / "ws.db";
+  WriteRandomFeatures(workspace, 4);
+  std::string out;
+  EXPECT_EQ(RunCommand(fmt::format("{} match --workspace {}", ShellQuote(VarsfmBinary()),
+                                   ShellQuote(workspace)),
+                       &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("0 of 6 new pairs verified"), std::string::npos) << out;
+  EXPECT_NE(out.find("no pair of images shares a verified geometry"), std::string::npos) << out;
+}
+
 // Pairs are recorded with the settings they were matched with: a re-run with other settings
 // matches every pair again (those that failed too), one with only another thread count skips
 // them all.

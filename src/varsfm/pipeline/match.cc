@@ -335,6 +335,10 @@ MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check) {
   MatchPairs(db, record, settings, pairs, options, summary);
   info("match: {} of {} new pairs verified, {} inlier matches, {:.1f} s", summary.num_verified,
        pairs.size(), summary.num_inlier_matches, timer.Seconds());
+  if (!pairs.empty() && summary.num_verified == 0 && summary.num_skipped == 0)
+    warn(
+        "match: no pair of images shares a verified geometry: the photos do not overlap, or have "
+        "too few features (see extract's warnings); a model needs at least one pair");
   return summary;
 }
 

@@ -227,6 +227,7 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
       data.summary["image_dir"].is_string())
     image_dir = data.summary["image_dir"].get<std::string>();
   if (have_workspace && !image_dir.empty()) AddUnextractedPhotos(image_dir, &data.images);
+  std::vector<std::string> without_photo;  // named in one warning: the report shows no thumbnail
   for (ReportImage& image : data.images) {
     if (!image.registered)
       image.failure = FailureReason(image, data.summary, have_workspace, data.min_pair_inliers);
@@ -236,8 +237,15 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
       image.thumbnail = std::move(thumb->jpeg_base64);
       image.thumbnail_width = thumb->width;
       image.thumbnail_height = thumb->height;
+    } else {
+      without_photo.push_back(image.name);
     }
   }
+  if (!without_photo.empty())
+    warn(
+        "report: {} of {} photos not found or unreadable in {} (e.g. {}): shown without "
+        "thumbnails; --images names the photo folder",
+        without_photo.size(), data.images.size(), image_dir.string(), without_photo.front());
 
   const auto dense = PlyElementCounts(output / "dense.ply");
   if (dense.count("vertex")) data.dense_points = dense.at("vertex");
