@@ -6,11 +6,15 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
+#include <system_error>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -35,6 +39,11 @@
 #include "varsfm/util/option_check.h"
 
 namespace {
+
+// One help text for extract's and run's option: a location's second orientation is a feature of
+// its own (as in COLMAP), so the count of features may exceed the number.
+constexpr const char* kMaxFeaturesHelp =
+    "strongest keypoint locations kept (a location with two orientations gives two features)";
 
 constexpr int kUsageError = 2;
 
@@ -83,21 +92,31 @@ CLI::Option* AddChoice(CLI::App* cmd, const std::string& flag, T* target, Choice
   return option->default_str(current);
 }
 
-// An option whose help shows its default value.
+// Unsigned options: CLI11 would wrap "-1" around to the largest value, and clamp a number too
+// large for `T` to the largest without a word.
+template <typename T>
+CLI::Validator UnsignedRange() {
+  return CLI::Validator(
+      [](std::string& text) {
+        T value{};
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        return ec == std::errc() && end == text.data() + text.size()
+                   ? std::string()
+                   : fmt::format("expected an integer from 0 to {}, got {}",
+                                 std::numeric_limits<T>::max(), text);
+      },
+      "");
+}
+
+// An option whose help shows its default value; an unsigned one refuses what does not fit it.
 template <typename T>
 CLI::Option* AddWithDefault(CLI::App* cmd, const std::string& flag, T& value,
                             const std::string& description) {
-  return cmd->add_option(flag, value, description)->capture_default_str();
+  CLI::Option* option = cmd->add_option(flag, value, description)->capture_default_str();
+  if constexpr (std::is_unsigned_v<T> && !std::is_same_v<T, bool>)
+    option->check(UnsignedRange<T>());
+  return option;
 }
-
-// Unsigned options: CLI11 would wrap "-1" around to the largest value.
-const CLI::Validator kNotNegative(
-    [](std::string& text) {
-      return !text.empty() && text.front() == '-'
-                 ? fmt::format("expected an integer >= 0, got {}", text)
-                 : std::string();
-    },
-    "");
 
 // The dense method and its multi-view stereo settings (densify and run).
 void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* dense) {
@@ -244,7 +263,7 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_flag("!--no-distortion", in.refine_distortion, "hold k1 = k2 = 0");
   cmd->add_flag("--sequential-order", m.sequential_order,
                 "register images in sequence order (video, numbered photos)");
-  AddWithDefault(cmd, "--seed", m.seed, "random seed")->check(kNotNegative);
+  AddWithDefault(cmd, "--seed", m.seed, "random seed");
   AddWithDefault(
       cmd, "--threads", m.num_threads,
       "bundle adjustment threads (0: all cores; the native solver's result does not depend "
@@ -268,7 +287,7 @@ void AddExtractCommand(CLI::App* app) {
   input->add_option("--video", options->video,
                     "video; keyframes go to <workspace>_frames/<video name>/");
   input->require_option(1);
-  AddWithDefault(cmd, "--max-features", options->sift.max_features, "strongest features kept");
+  AddWithDefault(cmd, "--max-features", options->sift.max_features, kMaxFeaturesHelp);
   AddWithDefault(cmd, "--max-image-size", options->sift.max_image_size,
                  "larger images are downscaled for extraction");
   AddWithDefault(cmd, "--contrast-threshold", options->sift.contrast_threshold,
@@ -326,7 +345,7 @@ void AddMatchCommand(CLI::App* app) {
   AddWithDefault(cmd, "--threads", options->num_threads, "worker threads (0: all cores)");
   AddWithDefault(cmd, "--commit-interval", options->commit_interval,
                  "seconds between commits: the most work a kill loses");
-  AddWithDefault(cmd, "--seed", options->seed, "random seed")->check(kNotNegative);
+  AddWithDefault(cmd, "--seed", options->seed, "random seed");
   cmd->callback([options] { varsfm::RunMatching(*options); });
 }
 
@@ -352,8 +371,7 @@ void AddRunCommand(CLI::App* app) {
             fmt::format("auto: sequential for a video, retrieval above {} images, else "
                         "exhaustive",
                         varsfm::kAutoRetrievalImages));
-  AddWithDefault(cmd, "--max-features", options->extract.sift.max_features,
-                 "strongest features kept");
+  AddWithDefault(cmd, "--max-features", options->extract.sift.max_features, kMaxFeaturesHelp);
   AddChoice(cmd, "--until", &options->until, ChoicesOf(varsfm::kRunStageNames),
             "the last stage run");
   AddDenseMethodOptions(cmd, &options->dense);
@@ -404,7 +422,7 @@ void AddDemoCommand(CLI::App* app) {
       app->add_subcommand("demo", "reconstruct a built-in synthetic scene and score it");
   cmd->add_option("--output", options->output, "output folder")->required();
   AddWithDefault(cmd, "--images", options->scene.num_images, "images to render (3 to 200)");
-  AddWithDefault(cmd, "--seed", options->scene.seed, "scene seed")->check(kNotNegative);
+  AddWithDefault(cmd, "--seed", options->scene.seed, "scene seed");
   AddChoice(cmd, "--until", &options->run.until, ChoicesOf(varsfm::kRunStageNames),
             "the last stage run");
   cmd->callback([options] { varsfm::RunDemo(*options); });
@@ -425,8 +443,7 @@ void AddDensifyCommand(CLI::App* app) {
   AddHoldoutOption(cmd, &options->holdout);
   AddWithDefault(cmd, "--threads", options->dense.num_threads, "threads (0: all cores)");
   AddDenseMethodOptions(cmd, &options->dense);
-  AddWithDefault(cmd, "--seed", options->dense.mvs.seed, "random seed (PatchMatch)")
-      ->check(kNotNegative);
+  AddWithDefault(cmd, "--seed", options->dense.mvs.seed, "random seed (PatchMatch)");
   cmd->callback([options] { varsfm::RunDensify(*options); });
 }
 
@@ -446,8 +463,7 @@ void AddMeshCommand(CLI::App* app) {
   AddWithDefault(cmd, "--threads", options->surface.num_threads,
                  "screened Poisson threads (the mesh is reproducible for a fixed count)");
   AddWithDefault(cmd, "--max-points", options->surface.max_points,
-                 "afront: downsample above this many points")
-      ->check(kNotNegative);
+                 "afront: downsample above this many points");
   AddWithDefault(cmd, "--trim", options->surface.trim_factor,
                  "Poisson: drop faces farther than this x point spacing from the data (0: keep)");
   varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;
@@ -518,8 +534,7 @@ void AddReportCommand(CLI::App* app) {
                   "the photos, for thumbnails (default: where the run read them)");
   cmd->add_option("--three-js", options->three_js_dir,
                   "three.js folder (default: $VARSFM_THREE_JS_DIR, else Debian's libjs-three)");
-  AddWithDefault(cmd, "--max-points", options->data.max_view_points, "points shown in the 3D view")
-      ->check(kNotNegative);
+  AddWithDefault(cmd, "--max-points", options->data.max_view_points, "points shown in the 3D view");
   AddWithDefault(cmd, "--thumbnail-width", options->data.thumbnail_width,
                  "thumbnail width (px, 16 to 1024)");
   cmd->add_flag("!--no-model", options->data.embed_model,

@@ -161,6 +161,25 @@ TEST(VideoKeyframes, NoCapByDefault) {
   EXPECT_GT(summary.names.size(), 300u);
 }
 
+// A video cut off half-way (a copy interrupted, a download stopped) decodes to its cut; the
+// summary keeps the count the container announced, so that the shortfall is reported.
+TEST(VideoKeyframes, ATruncatedVideoKeepsItsAnnouncedFrameCount) {
+  testing::TempDir dir("video_keyframes_cut");
+  const fs::path whole = WritePanVideo(dir.path() / "pan.avi");
+  const KeyframeSummary full = ExtractKeyframes(whole, dir.path() / "whole", {});
+  EXPECT_EQ(full.frames_read, static_cast<size_t>(kFrames));
+  EXPECT_EQ(full.frames_announced, static_cast<size_t>(kFrames));
+
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path cut = dir.path() / "cut.avi";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  const KeyframeSummary part = ExtractKeyframes(cut, dir.path() / "cut", {});
+  EXPECT_GT(part.frames_read, 0u);
+  EXPECT_LT(part.frames_read, static_cast<size_t>(0.6 * kFrames));
+  EXPECT_EQ(part.frames_announced, static_cast<size_t>(kFrames));
+}
+
 TEST(VideoKeyframes, UnreadableVideoIsAnErrorAndWritesNothing) {
   testing::TempDir dir("video_keyframes_bad");
   EXPECT_THROW(ExtractKeyframes(dir.path() / "absent.avi", dir.path() / "frames", {}), Error);

@@ -32,28 +32,50 @@ void WriteText(const fs::path& file, const std::string& bytes) {
   std::ofstream(file, std::ios::binary) << bytes;
 }
 
-// cameras.bin with camera 1 (SIMPLE_PINHOLE 64 x 48).
-std::string OneCamera() {
+// cameras.bin with camera 1 (SIMPLE_PINHOLE 64 x 48, focal `focal`).
+std::string OneCamera(double focal = 50.0) {
   std::string bytes;
   Put<uint64_t>(&bytes, 1);
   Put<uint32_t>(&bytes, 1);
   Put<int32_t>(&bytes, 0);
   Put<uint64_t>(&bytes, 64);
   Put<uint64_t>(&bytes, 48);
-  for (double p : {50.0, 32.0, 24.0}) Put<double>(&bytes, p);
+  for (double p : {focal, 32.0, 24.0}) Put<double>(&bytes, p);
   return bytes;
 }
 
-// images.bin with image 1 of camera 1 and `num_points` declared 2D points, none present.
-std::string OneImage(uint64_t num_points) {
+// images.bin with image 1 of camera 1, quaternion `qw` (x = y = z = 0) and `num_points` declared
+// 2D points, none present.
+std::string OneImage(uint64_t num_points, double qw = 1.0) {
   std::string bytes;
   Put<uint64_t>(&bytes, 1);
   Put<uint32_t>(&bytes, 1);
-  for (double v : {1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}) Put<double>(&bytes, v);
+  for (double v : {qw, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}) Put<double>(&bytes, v);
   Put<uint32_t>(&bytes, 1);
   bytes += std::string("a.jpg", 6);  // with its NUL
   Put<uint64_t>(&bytes, num_points);
   return bytes;
+}
+
+// points3D.bin with one point at (x, 0, 0) and an empty track.
+std::string OnePoint(double x) {
+  std::string bytes;
+  Put<uint64_t>(&bytes, 1);
+  Put<uint64_t>(&bytes, 1);
+  for (double v : {x, 0.0, 0.0}) Put<double>(&bytes, v);
+  bytes += "abc";
+  Put<double>(&bytes, 0.5);
+  Put<uint64_t>(&bytes, 0);
+  return bytes;
+}
+
+std::string ReadError(const fs::path& model) {
+  try {
+    ReadColmapModel(model);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 TEST(CorruptColmapBinary, HugePointCountsAreRefusedBeforeAllocation) {
@@ -94,6 +116,33 @@ TEST(CorruptColmapBinary, HugePointCountsAreRefusedBeforeAllocation) {
   // The same files with honest counts are read.
   WriteText(model / "points3D.bin", no_points);
   EXPECT_EQ(ReadColmapModel(model).images().size(), 1u);
+}
+
+// A camera, a pose or a point that is not a finite number put NaN into every stage after (a
+// dense cloud of NaN, a mesh refused far from the cause); the reader names it.
+TEST(CorruptColmapBinary, NonFiniteCamerasPosesAndPointsAreRefused) {
+  TempDir dir("nonfinite_colmap");
+  const fs::path model = dir.path();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  WriteText(model / "cameras.bin", OneCamera());
+  WriteText(model / "images.bin", OneImage(0));
+  WriteText(model / "points3D.bin", OnePoint(1.0));
+  ASSERT_EQ(ReadColmapModel(model).points3D().size(), 1u);
+
+  WriteText(model / "cameras.bin", OneCamera(nan));
+  EXPECT_NE(ReadError(model).find("not a finite number"), std::string::npos) << ReadError(model);
+  WriteText(model / "cameras.bin", OneCamera(-50.0));
+  EXPECT_NE(ReadError(model).find("focal length must be positive"), std::string::npos)
+      << ReadError(model);
+  WriteText(model / "cameras.bin", OneCamera());
+
+  WriteText(model / "images.bin", OneImage(0, /*qw=*/0.0));
+  EXPECT_NE(ReadError(model).find("pose is not finite"), std::string::npos) << ReadError(model);
+  WriteText(model / "images.bin", OneImage(0));
+
+  WriteText(model / "points3D.bin", OnePoint(std::numeric_limits<double>::infinity()));
+  EXPECT_NE(ReadError(model).find("position is not a finite number"), std::string::npos)
+      << ReadError(model);
 }
 
 TEST(CorruptPly, ElementWithoutPropertiesCannotClaimRecords) {

@@ -58,9 +58,16 @@ TEST_F(CommandLineErrors, NegativeThreadsAreRefused) {
                      "--threads: expected an integer >= 0, got -3");
 }
 
-TEST_F(CommandLineErrors, NegativeSeedIsRefused) {
+// A negative or too large unsigned value was wrapped or clamped to the largest one in silence.
+TEST_F(CommandLineErrors, NegativeOrOverflowingSeedIsRefused) {
   ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --seed -1"), 2,
-                     "--seed: expected an integer >= 0, got -1");
+                     "--seed: expected an integer from 0 to 18446744073709551615, got -1");
+  ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --seed 99999999999999999999"),
+                     2,
+                     "--seed: expected an integer from 0 to 18446744073709551615, got "
+                     "99999999999999999999");
+  ExpectOneLineError(RunVarsfm("densify --sparse s --images i --output o --seed 1e3"), 2,
+                     "--seed: expected an integer from 0 to 18446744073709551615, got 1e3");
 }
 
 TEST_F(CommandLineErrors, UnknownLogLevelIsRefused) {

@@ -91,6 +91,14 @@ TEST(DensifyCommand, TwoImageModelGivesPointsOrExplainsTheEmptyCloud) {
   EXPECT_NE(message.find("2 registered images"), std::string::npos) << message;
   EXPECT_NE(message.find("3 views agree"), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  // Held-out views are counted apart: the model has two, the stage is left one.
+  DensifyOptions held_out;
+  held_out.holdout = 2;
+  const std::string few = DensifyError(tmp.path() / "sparse", tmp, held_out);
+  EXPECT_NE(few.find("has 2 registered images, 1 left once --holdout 2 keeps 1 out"),
+            std::string::npos)
+      << few;
 }
 
 }  // namespace

@@ -560,6 +560,23 @@ TEST_F(ExtractBadInput, OnlyTextAndTruncatedJpegs) {
   EXPECT_NE(out_.find("truncated.jpg"), std::string::npos) << out_;
 }
 
+// Photos that decode but hold no feature (blank, lens cap on) made a workspace that every later
+// stage failed on with another reason; a new workspace is refused, and an existing one, whose
+// photos have features, only gains the blank ones with a warning.
+TEST_F(ExtractBadInput, BlankPhotosAloneAreRefused) {
+  const fs::path blank = dir_.path() / "blank";
+  fs::create_directories(blank);
+  for (const char* name : {"a.png", "b.png", "c.png"})
+    WriteImage(blank / name, cv::Mat(240, 320, CV_8UC3, cv::Scalar(128, 128, 128)));
+  const fs::path fresh = dir_.path() / "fresh.db";
+  EXPECT_NE(RunCommand(Extract(fresh, "--images " + ShellQuote(blank)), &out_), 0) << out_;
+  EXPECT_NE(out_.find("error: no feature in any of the 3 images"), std::string::npos) << out_;
+  EXPECT_FALSE(fs::exists(fresh)) << "workspace created";
+
+  EXPECT_EQ(RunCommand(Extract(workspace_, "--images " + ShellQuote(blank)), &out_), 0) << out_;
+  EXPECT_NE(out_.find("has only 0 features"), std::string::npos) << out_;
+}
+
 TEST_F(ExtractBadInput, UndecodableAndMissingVideo) {
   std::ofstream(dir_.path() / "bad.avi") << "not a video\n";
   ExpectFailure("--video " + ShellQuote(dir_.path() / "bad.avi"), "bad.avi");

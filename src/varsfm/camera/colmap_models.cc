@@ -55,22 +55,37 @@ std::vector<double> ToColmapParams(const Camera& camera, int model_id) {
          camera.camera_id, p[Camera::kSkew]);
   const double f = p[Camera::kFocal], fy = camera.fy(), cx = p[Camera::kU0], cy = p[Camera::kV0];
   switch (model_id) {
-    case kColmapSimplePinhole: return {f, cx, cy};
-    case kColmapPinhole: return {f, fy, cx, cy};
-    case kColmapSimpleRadial: return {f, cx, cy, p[Camera::kK1]};
-    case kColmapRadial: return {f, cx, cy, p[Camera::kK1], p[Camera::kK2]};
-    case kColmapOpenCV: return {f, fy, cx, cy, p[Camera::kK1], p[Camera::kK2], 0.0, 0.0};
+    case kColmapSimplePinhole:
+      return {f, cx, cy};
+    case kColmapPinhole:
+      return {f, fy, cx, cy};
+    case kColmapSimpleRadial:
+      return {f, cx, cy, p[Camera::kK1]};
+    case kColmapRadial:
+      return {f, cx, cy, p[Camera::kK1], p[Camera::kK2]};
+    case kColmapOpenCV:
+      return {f, fy, cx, cy, p[Camera::kK1], p[Camera::kK2], 0.0, 0.0};
     case kColmapFullOpenCV:
       return {f, fy, cx, cy, p[Camera::kK1], p[Camera::kK2], 0, 0, 0, 0, 0, 0};
-    default: Fail("COLMAP camera model id {} is not supported for export", model_id);
+    default:
+      Fail("COLMAP camera model id {} is not supported for export", model_id);
   }
 }
 
 Camera CameraFromColmap(int model_id, const std::vector<double>& v, int width, int height) {
   const ModelInfo* m = FindModel(model_id);
-  if (m == nullptr) Fail("COLMAP camera model id {} is not supported (fisheye or unknown)", model_id);
+  if (m == nullptr)
+    Fail("COLMAP camera model id {} is not supported (fisheye or unknown)", model_id);
   if (v.size() != m->num_params)
     Fail("COLMAP camera model {} expects {} parameters, got {}", m->name, m->num_params, v.size());
+  for (const double x : v)
+    if (!std::isfinite(x)) Fail("COLMAP {} camera: a parameter is not a finite number", m->name);
+  const bool has_fy =
+      model_id == kColmapPinhole || model_id == kColmapOpenCV || model_id == kColmapFullOpenCV;
+  if (!(v[0] > 0) || (has_fy && !(v[1] > 0)))
+    Fail("COLMAP {} camera: the focal length must be positive", m->name);
+  if (width <= 0 || height <= 0)
+    Fail("COLMAP {} camera: image size {} x {} is not positive", m->name, width, height);
   Camera camera;
   camera.width = width;
   camera.height = height;

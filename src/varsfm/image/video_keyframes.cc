@@ -19,6 +19,9 @@
 namespace varsfm {
 namespace {
 
+// Below this share of the announced frame count, decoding is reported as cut short.
+constexpr double kDecodedShareWarned = 0.9;
+
 struct Frame {
   size_t index = 0;
   cv::Mat full;   // as decoded (BGR)
@@ -190,6 +193,16 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
     }
   }
   if (summary.frames_read == 0) Fail("cannot decode any frame of video {}", video.string());
+  const double announced = capture.FrameCount();
+  if (std::isfinite(announced) && announced > 0) {
+    summary.frames_announced = static_cast<size_t>(announced);
+    // Containers estimate the count for some formats: only a clear shortfall is reported.
+    if (summary.frames_read < kDecodedShareWarned * announced)
+      warn(
+          "video {}: decoding stopped at frame {} of the {} its container announces (truncated "
+          "or damaged file?); keyframes come from the frames decoded",
+          video.string(), summary.frames_read, summary.frames_announced);
+  }
 
   const size_t max_frames = static_cast<size_t>(std::max(0, options.max_frames));
   if (max_frames > 0 && summary.names.size() > max_frames) {

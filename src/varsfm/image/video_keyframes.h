@@ -44,6 +44,9 @@ struct KeyframeSummary {
   std::vector<std::string> names;  // keyframe files in the output folder, in video order
   size_t frames_read = 0;
   size_t frames_blurred = 0;
+  // The frame count the container announces (0: unknown). Decoding that stops well short of it
+  // (a truncated or damaged file) is warned about: the keyframes cover only what was read.
+  size_t frames_announced = 0;
 };
 
 // Throws varsfm::Error (one line naming `video`) when it is a folder or no file.

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -351,6 +352,16 @@ void AddImageChecked(const fs::path& file, Image image, Reconstruction* rec) {
          image.image_id, image.camera_id);
   if (rec->ExistsImage(image.image_id))
     Fail("{}: image id {} appears twice", file.string(), image.image_id);
+  // PoseFrom normalises the quaternion: a zero one stays zero, a non-number stays NaN; either
+  // would put the camera nowhere.
+  if (!image.cam_from_world.translation.allFinite() ||
+      !(std::abs(image.cam_from_world.rotation.norm() - 1.0) < 1e-6))
+    Fail("{}: image {} ({}): its pose is not finite (a zero quaternion or a non-number)",
+         file.string(), image.image_id, image.name);
+  for (const Point2D& point : image.points2D)
+    if (!point.xy.allFinite())
+      Fail("{}: image {} ({}): a 2D point is not a finite number", file.string(), image.image_id,
+           image.name);
   image.registered = true;
   rec->AddImage(std::move(image));
 }
@@ -443,6 +454,8 @@ std::vector<PendingPoint> ReadPointsBinary(const fs::path& file) {
 
 void AddPoints(const fs::path& file, std::vector<PendingPoint> points, Reconstruction* rec) {
   for (PendingPoint& point : points) {
+    if (!point.xyz.allFinite())
+      Fail("{}: a 3D point's position is not a finite number", file.string());
     for (const TrackElement& el : point.track)
       if (!rec->ExistsImage(el.image_id) ||
           el.point2D_idx >= rec->image(el.image_id).points2D.size())

@@ -90,10 +90,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
     Fail("workspace {} does not exist", options.workspace.string());
   const Reconstruction rec =
-      ReadStageModel("densify", options.sparse, options.image_dir, options.holdout);
-  if (rec.NumRegisteredImages() < 2)
-    Fail("sparse model {} has {} registered images; densify needs at least 2",
-         options.sparse.string(), rec.NumRegisteredImages());
+      ReadStageModel("densify", options.sparse, options.image_dir, options.holdout, 2);
 
   const auto load = [&](image_t id) { return ReadModelPhoto(rec, id, options.image_dir); };
   DensifySummary result;

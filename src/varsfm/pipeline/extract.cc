@@ -418,6 +418,11 @@ ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) 
   try {
     Database db(options.workspace);
     WriteFeatures(db, options, input, first_index, std::move(first_image), unusable, summary);
+    // A new workspace whose images have no feature at all cannot be matched: say so here, not
+    // two stages later as "no initial pair".
+    if (created && summary.num_features == 0)
+      Fail("no feature in any of the {} images of {} (blank or textureless photos?)",
+           summary.num_extracted, input.dir.string());
   } catch (...) {
     // A failed run leaves no workspace it made (the images it added to an existing one are
     // removed by WriteFeatures): a half-filled one would be mapped as if it were complete.

@@ -1,5 +1,9 @@
 #include "varsfm/pipeline/stage_model.h"
 
+#include <string>
+
+#include <fmt/format.h>
+
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
@@ -8,14 +12,23 @@
 namespace varsfm {
 
 Reconstruction ReadStageModel(std::string_view stage, const std::filesystem::path& sparse,
-                              const std::filesystem::path& image_dir, int holdout) {
+                              const std::filesystem::path& image_dir, int holdout,
+                              size_t min_images) {
   if (!std::filesystem::is_directory(sparse))
     Fail("sparse model folder {} does not exist", sparse.string());
   if (!std::filesystem::is_directory(image_dir))
     Fail("image folder {} does not exist", image_dir.string());
   Reconstruction rec = ReadColmapModel(sparse);
-  if (const size_t n = HoldOutImages(&rec, holdout))
-    info("{}: {} held-out view(s) left out", stage, n);
+  const size_t held_out = HoldOutImages(&rec, holdout);
+  if (held_out > 0) info("{}: {} held-out view(s) left out", stage, held_out);
+  const size_t left = rec.NumRegisteredImages();
+  if (left < min_images)
+    Fail("{}: sparse model {} has {} registered images{}; {} needs at least {}", stage,
+         sparse.string(), left + held_out,
+         held_out > 0
+             ? fmt::format(", {} left once --holdout {} keeps {} out", left, holdout, held_out)
+             : std::string(),
+         stage, min_images);
   return rec;
 }
 

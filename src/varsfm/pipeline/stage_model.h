@@ -11,8 +11,10 @@ namespace varsfm {
 
 // Reads the model in `sparse` (ReadColmapModel) and leaves out every `holdout`-th registered
 // image (0: none), logging how many as `stage`. Throws varsfm::Error (one line) when `sparse`
-// or `image_dir` is not a folder, or for an unreadable model.
+// or `image_dir` is not a folder, for an unreadable model, and when fewer than `min_images`
+// registered images are left (the message counts the held-out ones apart).
 Reconstruction ReadStageModel(std::string_view stage, const std::filesystem::path& sparse,
-                              const std::filesystem::path& image_dir, int holdout);
+                              const std::filesystem::path& image_dir, int holdout,
+                              size_t min_images);
 
 }  // namespace varsfm

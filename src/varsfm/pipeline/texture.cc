@@ -22,11 +22,9 @@ void TextureOptions::Check() const {
 TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   Timer timer;
-  const Reconstruction rec =
-      ReadStageModel("texture", options.sparse, options.image_dir, options.holdout);
   const TriangleMesh mesh = ReadMeshPly(options.mesh);
-  if (rec.NumRegisteredImages() == 0)
-    Fail("sparse model {} has no registered images to texture from", options.sparse.string());
+  const Reconstruction rec =
+      ReadStageModel("texture", options.sparse, options.image_dir, options.holdout, 1);
 
   TextureSummary result;
   const TexturedMesh textured =
