@@ -204,10 +204,10 @@ void AddLogLevelOption(CLI::App* app) {
   app->add_option_function<std::string>(
       "--log-level",
       [](const std::string& text) { spdlog::set_level(Choose("--log-level", kLevels, text)); },
-      fmt::format("{} (before the subcommand)", ChoiceNames(kLevels)));
+      fmt::format("{} (before or after the subcommand)", ChoiceNames(kLevels)));
   app->add_flag_callback(
       "-q,--quiet", [] { spdlog::set_level(spdlog::level::warn); },
-      "warnings and errors only, no progress (--log-level warn; before the subcommand)");
+      "warnings and errors only, no progress (--log-level warn)");
 }
 
 // Mapper options shared by `map` and `run`.
@@ -574,6 +574,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "varsfm 0.1.0");
   app.failure_message(OneLineFailure);
+  // `varsfm run IN OUT --quiet` as well as `varsfm --quiet run IN OUT`: a subcommand passes the
+  // options it does not know to the main command. Set before the subcommands, which inherit it.
+  app.fallthrough();
   AddLogLevelOption(&app);
   AddExtractCommand(&app);
   AddMatchCommand(&app);

@@ -75,6 +75,17 @@ TEST_F(CommandLineErrors, UnknownLogLevelIsRefused) {
                      "--log-level: expected trace, debug, info, warn, error or off, got bogus");
 }
 
+// The main command's options are taken after the subcommand too (`varsfm run IN OUT --quiet`
+// was a usage error); an option neither knows still is.
+TEST_F(CommandLineErrors, LogOptionsAfterTheSubcommandAreTaken) {
+  ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --quiet"), 1,
+                     "does not exist");
+  ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --log-level bogus"), 2,
+                     "--log-level: expected trace, debug, info, warn, error or off, got bogus");
+  ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --bogus"), 2,
+                     "not expected: --bogus");
+}
+
 TEST_F(CommandLineErrors, ZeroOverlapNamesItsRangeReadably) {
   ExpectOneLineError(RunVarsfm("match --workspace " + workspace_ + " --overlap 0"), 2,
                      "--overlap: expected an integer >= 1, got 0");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -69,6 +70,27 @@ double PlaneDepthAt(const DepthMap& map, size_t j, const ViewGeometry& g,
   return n.dot(on_plane) / along;
 }
 
+// Where X meets view u: the pixel it falls in, the sub-pixel position, X's own depth there, and
+// the depth of u's surface at that position (PlaneDepthAt).
+struct ViewHit {
+  size_t pixel;
+  Eigen::Vector2d position;
+  double point_depth;
+  double surface_depth;
+};
+
+// Nothing when X falls behind or outside u, or where u has no (positive) surface depth.
+std::optional<ViewHit> HitInView(const FusionView& view, const ViewGeometry& g,
+                                 const Eigen::Vector3d& X) {
+  ViewHit hit;
+  if (!g.Project(X, &hit.position, &hit.point_depth)) return std::nullopt;
+  hit.pixel = PixelIndex(g, hit.position);
+  if (view.map.depth[hit.pixel] <= 0) return std::nullopt;
+  hit.surface_depth = PlaneDepthAt(view.map, hit.pixel, g, hit.position);
+  if (hit.surface_depth <= 0) return std::nullopt;
+  return hit;
+}
+
 // How many other views confirm the depth of pixel (x, y) of view v: their depth where the point
 // projects, unprojected and projected back into v, lands within the reprojection tolerance of
 // the pixel at the same depth.
@@ -82,14 +104,9 @@ int ConsistentViews(const std::vector<FusionView>& views, const std::vector<View
   int consistent = 0;
   for (size_t u = 0; u < views.size(); ++u) {
     if (u == v) continue;
-    Eigen::Vector2d q;
-    double depth_u;
-    if (!geometry[u].Project(X, &q, &depth_u)) continue;
-    const size_t j = PixelIndex(geometry[u], q);
-    if (views[u].map.depth[j] <= 0) continue;
-    const double source_depth = PlaneDepthAt(views[u].map, j, geometry[u], q);
-    if (source_depth <= 0) continue;
-    const Eigen::Vector3d back = geometry[u].UnprojectAt(q, source_depth);
+    const std::optional<ViewHit> hit = HitInView(views[u], geometry[u], X);
+    if (!hit) continue;
+    const Eigen::Vector3d back = geometry[u].UnprojectAt(hit->position, hit->surface_depth);
     Eigen::Vector2d p;
     double depth_back;
     if (!g.Project(back, &p, &depth_back)) continue;
@@ -161,17 +178,15 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
         std::vector<std::pair<size_t, size_t>> members = {{v, i}};
         for (size_t u = 0; u < views.size(); ++u) {
           if (u == v) continue;
-          Eigen::Vector2d q;
-          double depth_u;
-          if (!geometry[u].Project(X, &q, &depth_u)) continue;
-          const size_t j = PixelIndex(geometry[u], q);
-          if (views[u].map.depth[j] <= 0 || fused[u][j]) continue;
-          const double d = PlaneDepthAt(views[u].map, j, geometry[u], q);
+          const std::optional<ViewHit> hit = HitInView(views[u], geometry[u], X);
+          if (!hit || fused[u][hit->pixel]) continue;
+          const size_t j = hit->pixel;
+          const double depth_u = hit->point_depth, d = hit->surface_depth;
           if (std::abs(d - depth_u) > options.max_depth_difference * depth_u) continue;
           const Eigen::Vector3d n = world_normal(u, j);
           if (n.dot(normal) < min_cos) continue;
           members.push_back({u, j});
-          sum_x += geometry[u].UnprojectAt(q, d);
+          sum_x += geometry[u].UnprojectAt(hit->position, d);
           sum_n += n;
           sum_c += color_at(u, j);
           seen_by.push_back(views[u].image_id);
