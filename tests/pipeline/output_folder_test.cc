@@ -56,6 +56,28 @@ TEST(RemoveOutputsAfter, LeavesAFolderVarsfmDidNotWriteAlone) {
   EXPECT_NO_THROW(CheckOutputFolderIsOurs(tmp.path() / "empty"));
 }
 
+// A disk that fills between the cloud and its visibility left a new dense.ply beside the last
+// run's dense.ply.vis (or none): the pair is removed with the error.
+TEST(WriteOutputsTogether, AFailedWriteRemovesTheWholeSet) {
+  TempDir tmp("outputs_together");
+  const fs::path out = tmp.path() / "out";
+  WriteEveryOutput(out);
+  EXPECT_THROW(WriteOutputsTogether(out, {"dense.ply", "dense.ply.vis"},
+                                    [&] {
+                                      std::ofstream(out / "dense.ply") << "new";
+                                      Fail("{}: write failed (disk full?)", "dense.ply.vis");
+                                    }),
+               Error);
+  EXPECT_FALSE(fs::exists(out / "dense.ply"));
+  EXPECT_FALSE(fs::exists(out / "dense.ply.vis"));
+  EXPECT_TRUE(fs::exists(out / "notes.txt"));
+
+  WriteOutputsTogether(out, {"textured", "model.glb"},
+                       [&] { std::ofstream(out / "model.glb") << "new"; });
+  EXPECT_TRUE(fs::exists(out / "textured" / "model.obj"));
+  EXPECT_TRUE(fs::exists(out / "model.glb"));
+}
+
 TEST(CheckOutputOutsideImages, ThePhotoFolderAndFoldersInsideItAreRefused) {
   TempDir tmp("outside_images");
   const fs::path photos = tmp.path() / "photos";

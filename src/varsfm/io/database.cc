@@ -332,6 +332,9 @@ Database::Transaction::Transaction(Database& db) : db_(db) {
 
 Database::Transaction::~Transaction() {
   if (done_) return;
+  // A full disk or an I/O error makes SQLite roll the whole transaction back itself; then no
+  // savepoint is left to roll back to, and the connection is in autocommit mode again.
+  if (sqlite3_get_autocommit(db_.db_)) return;
   try {
     db_.Exec("ROLLBACK TO varsfm_transaction");
     db_.Exec("RELEASE varsfm_transaction");

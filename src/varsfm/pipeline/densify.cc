@@ -102,8 +102,10 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
   CreateFolder(options.output);
   RemoveOutputsAfter(options.output, ChainStage::kDensify);
-  WritePly(options.output / "dense.ply", cloud);
-  WritePointVisibility(options.output / "dense.ply.vis", visibility);
+  WriteOutputsTogether(options.output, {"dense.ply", "dense.ply.vis"}, [&] {
+    WritePly(options.output / "dense.ply", cloud);
+    WritePointVisibility(options.output / "dense.ply.vis", visibility);
+  });
   result.num_points = cloud.points.size();
   Timer check_timer;
   result.quality = MeasureAgainstSparse(cloud.points, rec);

@@ -76,4 +76,16 @@ void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage) {
       for (const char* name : outputs.names) std::filesystem::remove_all(output / name, ec);
 }
 
+void WriteOutputsTogether(const std::filesystem::path& output,
+                          std::initializer_list<const char*> names,
+                          const std::function<void()>& write) {
+  try {
+    write();
+  } catch (...) {
+    std::error_code ec;
+    for (const char* name : names) std::filesystem::remove_all(output / name, ec);
+    throw;
+  }
+}
+
 }  // namespace varsfm

@@ -4,6 +4,8 @@
 // numbered models), which is right in a folder varsfm made and wrong anywhere else -- a user's
 // folder of other files, or the photos themselves.
 #include <filesystem>
+#include <functional>
+#include <initializer_list>
 
 namespace varsfm {
 
@@ -21,6 +23,14 @@ enum class ChainStage { kMap, kDensify, kMesh, kTexture, kReport };
 // result. Only in a folder varsfm wrote (the marks of CheckOutputFolderIsOurs); elsewhere
 // nothing is removed.
 void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage);
+
+// Runs `write`, which writes the files or folders `names` into `output`. When it throws (a full
+// disk), every one of `names` is removed, the old ones too, before the error goes on: a stage's
+// outputs are read together (the cloud and its visibility, the OBJ and the glb), and a new one
+// beside an old or a missing one would be taken for a pair.
+void WriteOutputsTogether(const std::filesystem::path& output,
+                          std::initializer_list<const char*> names,
+                          const std::function<void()>& write);
 
 // Throws varsfm::Error when `output` is `image_dir` or lies inside it: the photos are listed
 // with their subfolders, so a second run would read the first one's texture atlas and renders as

@@ -35,8 +35,10 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
         "settings: nothing to texture",
         options.mesh.string(), result.stats.num_faces);
   RemoveOutputsAfter(options.output, ChainStage::kTexture);
-  WriteTexturedObj(options.output / "textured", textured, "model");
-  WriteGlb(options.output / "model.glb", textured);
+  WriteOutputsTogether(options.output, {"textured", "model.glb"}, [&] {
+    WriteTexturedObj(options.output / "textured", textured, "model");
+    WriteGlb(options.output / "model.glb", textured);
+  });
   result.seconds = timer.Seconds();
   const TextureMappingStats& s = result.stats;
   info(
