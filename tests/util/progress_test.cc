@@ -4,8 +4,10 @@
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 namespace varsfm {
 namespace {
@@ -36,7 +38,10 @@ TEST(Progress, LogsRateAndTimeLeftAboutEveryTenthOfTheWork) {
   CapturedLog log(spdlog::level::info);
   {
     Progress progress("work", 20);
-    for (int i = 0; i < 20; ++i) progress.Tick();
+    for (int i = 0; i < 20; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));  // a rate to show
+      progress.Tick();
+    }
   }
   const std::string text = log.text();
   size_t lines = 0;
@@ -46,6 +51,16 @@ TEST(Progress, LogsRateAndTimeLeftAboutEveryTenthOfTheWork) {
   EXPECT_NE(text.find("/s, "), std::string::npos) << text;
   EXPECT_NE(text.find(" left)"), std::string::npos) << text;
   EXPECT_NE(text.find("work: 20/20"), std::string::npos) << text;
+}
+
+// Work done within the first instants shows no rate: it would be noise ("7.23e+05/s").
+TEST(Progress, NoRateOverTheFirstInstants) {
+  CapturedLog log(spdlog::level::info);
+  {
+    Progress progress("work", 2);
+    progress.Tick();
+  }
+  EXPECT_NE(log.text().find("work: 1/2 \n"), std::string::npos) << log.text();
 }
 
 TEST(Progress, QuietAboveInfo) {

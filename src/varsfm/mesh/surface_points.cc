@@ -27,7 +27,8 @@ void CheckSpatialExtent(const RobustBounds& bounds, size_t num_points) {
   if (bounds.extent > 1e-6 * magnitude && bounds.extent > 1e-30) return;
   Fail(
       "the points have no spatial extent: the bulk of the {} spans {:.3g} around ({:.6g}, "
-      "{:.6g}, {:.6g}), below a float's precision there (all (nearly) one point)",
+      "{:.6g}, {:.6g}), below a float's precision there (all (nearly) one point; a cloud far "
+      "from the origin, georeferenced, needs shifting near it first)",
       num_points, bounds.extent, bounds.centre.x(), bounds.centre.y(), bounds.centre.z());
 }
 

@@ -13,6 +13,7 @@ namespace {
 
 // A terminal bar is redrawn at most this often: parallel loops tick thousands of times a second.
 constexpr auto kRedrawInterval = std::chrono::milliseconds(100);
+constexpr double kMinRateSeconds = 0.05;
 
 std::string FormatDuration(double seconds) {
   const auto s = static_cast<long>(seconds + 0.5);
@@ -57,7 +58,9 @@ void Progress::Finish() {
 std::string Progress::RateAndEta(size_t done) const {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  if (done == 0 || elapsed <= 0) return "";
+  // Over the first instants a rate is noise (a first item that had nothing to do gave
+  // "7.23e+05/s"): shown from kMinRateSeconds on.
+  if (done == 0 || elapsed < kMinRateSeconds) return "";
   const double rate = done / elapsed;
   if (done >= total_) return fmt::format("{:.3g}/s, {}", rate, FormatDuration(elapsed));
   return fmt::format("{:.3g}/s, {} left", rate, FormatDuration((total_ - done) / rate));
