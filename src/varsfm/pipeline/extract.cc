@@ -262,10 +262,13 @@ void RemoveWorkspace(const fs::path& workspace) {
 }
 
 // Extracts the features of the input's usable images into `db`, skipping those it holds
-// already. If it fails, the images it added are removed again.
+// already. If it fails, the images it added are removed again when `undo_on_failure` (a
+// workspace the run created is removed whole instead; undoing first only failed again on a
+// full disk).
 void WriteFeatures(Database& db, const ExtractOptions& options, const InputImages& input,
                    size_t first_index, std::optional<Photo> first_image,
-                   const std::vector<bool>& unusable, ExtractSummary& summary) {
+                   const std::vector<bool>& unusable, ExtractSummary& summary,
+                   bool undo_on_failure) {
   std::vector<DbImage> added;  // image and camera ids written by this run
   ResultSettings record(db);
   const int64_t settings = record.Id("extract", FeatureSettings(options.sift));
@@ -370,7 +373,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
                   [&](const std::shared_ptr<Extracted>& item) { write(*item); }));
     });
   } catch (...) {
-    RemoveImages(db, added);
+    if (undo_on_failure) RemoveImages(db, added);
     throw;
   }
   progress.Finish();
@@ -417,7 +420,8 @@ ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) 
   const bool created = !fs::exists(options.workspace, ec);
   try {
     Database db(options.workspace);
-    WriteFeatures(db, options, input, first_index, std::move(first_image), unusable, summary);
+    WriteFeatures(db, options, input, first_index, std::move(first_image), unusable, summary,
+                  /*undo_on_failure=*/!created);
     // A new workspace whose images have no feature at all cannot be matched: say so here, not
     // two stages later as "no initial pair".
     if (created && summary.num_features == 0)
