@@ -157,6 +157,19 @@ TEST(Surface, PoissonIsDeterministic) {
   EXPECT_EQ(a.colors, b.colors);
 }
 
+TEST(Surface, AdvancingFrontIsDeterministic) {
+  // Also twice in one process, as a library user or a test would call it (CGAL's faces came in
+  // an order that followed the heap's layout).
+  const PointCloud cloud = Sphere(3000, -0.3);
+  SurfaceOptions options;
+  options.method = SurfaceMethod::kAdvancingFront;
+  const TriangleMesh a = ReconstructSurface(cloud, options);
+  const TriangleMesh b = ReconstructSurface(cloud, options);
+  ASSERT_FALSE(a.faces.empty());
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.faces, b.faces);
+}
+
 TEST(Surface, ScreenedPoissonDepthFollowsTheCloud) {
   // The same sphere sampled 4x denser halves the spacing: one octree level deeper.
   SurfaceOptions options = Poisson();

@@ -30,6 +30,11 @@ TriangleMesh ReconstructAdvancingFront(const PointCloud& cloud) {
   CGAL::advancing_front_surface_reconstruction(points.begin(), points.end(),
                                                std::back_inserter(facets));
   if (facets.empty()) Fail("advancing-front surface reconstruction produced no faces");
+  // CGAL gives the same faces in an order that follows the heap's layout (two calls in one
+  // process differ): each face starts at its smallest index, orientation kept, and the faces
+  // are sorted, so that the mesh is the same whenever the points are.
+  for (auto& f : facets) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+  std::sort(facets.begin(), facets.end());
   TriangleMesh mesh;
   mesh.vertices = cloud.points;
   for (const auto& f : facets) {
