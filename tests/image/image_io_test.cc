@@ -78,9 +78,10 @@ TEST(ListImages, LinksToPhotosOfTheSetLoopsAndBrokenLinksAreSkipped) {
 TEST(ReadPhoto, ReadsEveryFormatInGreyAndColour) {
   testing::TempDir dir("read_formats");
   const cv::Mat original = RandomImage(64, 48);
-  for (const char* name : {"a.jpg", "a.png", "a.tif", "a.bmp"}) {
+  for (const char* name : {"a.jpg", "a.png", "a.tif", "a.bmp", "a.webp", "a.jp2", "a.ppm"}) {
     SCOPED_TRACE(name);
     WriteImage(dir.path() / name, original);
+    EXPECT_TRUE(HasImageExtension(dir.path() / name));
     const Photo color = ReadPhoto(dir.path() / name, ColorMode::kColor);
     EXPECT_EQ(color.width(), 64);
     EXPECT_EQ(color.height(), 48);

@@ -532,13 +532,13 @@ TEST_F(ExtractBadInput, EmptyFolder) {
   ExpectFailure("--images " + ShellQuote(dir_.path() / "empty"), "empty");
 }
 
-// Photos in formats varsfm does not decode (an iPhone's HEIC, WebP) are named in a warning, not
+// Photos in formats varsfm does not decode (an iPhone's HEIC, AVIF) are named in a warning, not
 // dropped in silence.
 TEST_F(ExtractBadInput, PhotosOfUnreadFormatsAreNamed) {
   const fs::path phone = dir_.path() / "phone";
   fs::create_directories(phone);
   std::ofstream(phone / "IMG_0001.HEIC") << "heic";
-  std::ofstream(phone / "b.webp") << "webp";
+  std::ofstream(phone / "b.avif") << "avif";
   ExpectFailure("--images " + ShellQuote(phone), "no image files");
   EXPECT_NE(out_.find("skipping 2 photo(s) in a format varsfm does not read"), std::string::npos)
       << out_;

@@ -126,11 +126,12 @@ cv::Mat ReadImagePixels(const std::filesystem::path& path, ColorMode mode) {
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
                 const ImageWriteOptions& options) {
   const std::string extension = LowerExtension(path);
+  const bool jpeg = extension == ".jpg" || extension == ".jpeg" || extension == ".jpe";
   std::vector<uint8_t> bytes;
   bool encoded = false;
   if (extension == ".png") {
     encoded = EncodePng(image, &bytes);
-  } else if (extension == ".jpg" || extension == ".jpeg" || extension == ".jpe") {
+  } else if (jpeg) {
     encoded = EncodeJpeg(image, options.jpeg_quality, &bytes);
   }
   if (encoded) {
@@ -143,9 +144,11 @@ void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
   // Other formats, and image types the direct encoders do not take (OpenCV converts them).
   const OpenCvIoPlugin& plugin =
       RequireOpenCvIoPlugin("cannot write image " + path.string(), "format needs");
+  // The quality is a JPEG setting: other encoders (JPEG 2000) warn on stderr about it.
   const int params[] = {kImwriteJpegQuality, options.jpeg_quality};
   char error[512] = "";
-  if (!plugin.write(path.c_str(), &image, params, std::size(params), error, sizeof(error)))
+  if (!plugin.write(path.c_str(), &image, params, jpeg ? std::size(params) : 0, error,
+                    sizeof(error)))
     Fail("cannot write image {}: {}", path.string(), error);
 }
 

@@ -58,12 +58,12 @@ std::string LowerCaseExtension(const fs::path& path) {
 }
 
 // Photo formats of cameras and phones that varsfm does not decode (HEIF is the iPhone's default;
-// camera raw files; WebP, GIF, JPEG 2000, AVIF, PNM): skipped like any other file, but named in a
-// warning, since a user who gave them meant them as photos.
+// camera raw files; GIF, AVIF, 1-bit PBM): skipped like any other file, but named in a warning,
+// since a user who gave them meant them as photos.
 bool IsUnreadablePhotoFormat(const fs::path& path) {
-  static constexpr std::array<const char*, 17> kExtensions = {
-      ".heic", ".heif", ".webp", ".gif", ".jp2", ".j2k", ".avif", ".pgm", ".ppm",
-      ".pnm",  ".pbm",  ".dng",  ".cr2", ".cr3", ".nef", ".arw",  ".raf"};
+  static constexpr std::array<const char*, 12> kExtensions = {".heic", ".heif", ".gif", ".avif",
+                                                              ".pbm",  ".dng",  ".cr2", ".cr3",
+                                                              ".nef",  ".arw",  ".raf", ".orf"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
@@ -71,8 +71,11 @@ bool IsUnreadablePhotoFormat(const fs::path& path) {
 }  // namespace
 
 bool HasImageExtension(const fs::path& path) {
-  static constexpr std::array<const char*, 7> kExtensions = {".jpg",  ".jpeg", ".png", ".tif",
-                                                             ".tiff", ".bmp",  ".jpe"};
+  // JPEG and PNG are decoded directly, the others by OpenCV's image codecs through the I/O
+  // plug-in (image_file.h).
+  static constexpr std::array<const char*, 13> kExtensions = {
+      ".jpg",  ".jpeg", ".jpe", ".png", ".tif", ".tiff", ".bmp",
+      ".webp", ".jp2",  ".j2k", ".pnm", ".ppm", ".pgm"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
