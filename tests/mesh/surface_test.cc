@@ -168,6 +168,9 @@ TEST(Surface, AdvancingFrontIsDeterministic) {
   ASSERT_FALSE(a.faces.empty());
   EXPECT_EQ(a.vertices, b.vertices);
   EXPECT_EQ(a.faces, b.faces);
+  PointCloud bare = cloud;  // without normals, the orientation is CGAL's arbitrary one
+  bare.normals.clear();
+  EXPECT_EQ(ReconstructSurface(bare, options).faces, ReconstructSurface(bare, options).faces);
 }
 
 TEST(Surface, ScreenedPoissonDepthFollowsTheCloud) {

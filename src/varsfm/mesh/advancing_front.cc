@@ -30,18 +30,31 @@ TriangleMesh ReconstructAdvancingFront(const PointCloud& cloud) {
   CGAL::advancing_front_surface_reconstruction(points.begin(), points.end(),
                                                std::back_inserter(facets));
   if (facets.empty()) Fail("advancing-front surface reconstruction produced no faces");
-  // CGAL gives the same faces in an order that follows the heap's layout (two calls in one
-  // process differ): each face starts at its smallest index, orientation kept, and the faces
-  // are sorted, so that the mesh is the same whenever the points are.
-  for (auto& f : facets) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
-  std::sort(facets.begin(), facets.end());
   TriangleMesh mesh;
   mesh.vertices = cloud.points;
   for (const auto& f : facets) {
     mesh.faces.emplace_back(static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2]));
   }
-  // Orient faces like the input normals (advancing front orients consistently, but its global
-  // sign is arbitrary).
+  // CGAL gives the same faces in an order, and a global orientation, that follow the heap's
+  // layout (two calls in one process differ). Each face starts at its smallest index
+  // (orientation kept), the faces are put in an order that ignores orientation, then oriented
+  // like the input normals, or without normals like the first face, and sorted: the mesh is the
+  // same whenever the points are.
+  for (Eigen::Vector3i& f : mesh.faces) {
+    int first = 0;
+    if (f[1] < f[first]) first = 1;
+    if (f[2] < f[first]) first = 2;
+    f = Eigen::Vector3i(f[first], f[(first + 1) % 3], f[(first + 2) % 3]);
+  }
+  const auto unoriented = [](const Eigen::Vector3i& f) {
+    return std::array<int, 3>{f[0], std::min(f[1], f[2]), std::max(f[1], f[2])};
+  };
+  std::sort(mesh.faces.begin(), mesh.faces.end(),
+            [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+              const std::array<int, 3> key_a = unoriented(a), key_b = unoriented(b);
+              return key_a != key_b ? key_a < key_b : a[1] < b[1];  // a face twice: both ways
+            });
+  bool flip = mesh.faces.front()[1] > mesh.faces.front()[2];
   if (cloud.HasNormals()) {
     double agreement = 0;
     for (const Eigen::Vector3i& f : mesh.faces) {
@@ -49,10 +62,10 @@ TriangleMesh ReconstructAdvancingFront(const PointCloud& cloud) {
                                     .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
       agreement += n.dot(cloud.normals[f[0]] + cloud.normals[f[1]] + cloud.normals[f[2]]);
     }
-    if (agreement < 0) {
-      for (Eigen::Vector3i& f : mesh.faces) std::swap(f[1], f[2]);
-    }
+    flip = agreement < 0;
   }
+  if (flip)
+    for (Eigen::Vector3i& f : mesh.faces) std::swap(f[1], f[2]);
   RemoveUnreferencedVertices(&mesh);
   return mesh;
 }
