@@ -2,6 +2,7 @@
 // png_codec.h, orientation.h). Pixel identity with OpenCV's imgcodecs was checked when they
 // replaced it; these tests pin the behaviour that identity relies on.
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -145,6 +146,14 @@ TEST(WriteImage, PngAndJpegDirectlyOtherFormatsThroughThePlugin) {
   EXPECT_EQ(ReadImagePixels(dir.path() / "a.jpg").size(), image.size());
   EXPECT_THROW(WriteImage(dir.path() / "a.unknown", image), Error);
   EXPECT_THROW(WriteImage(dir.path() / "absent" / "a.png", image), Error);
+  // The plug-in's formats go through a temporary too: only the images are left, no temporary
+  // of the failed write.
+  size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 5u);
 }
 
 }  // namespace

@@ -146,10 +146,12 @@ void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
       RequireOpenCvIoPlugin("cannot write image " + path.string(), "format needs");
   // The quality is a JPEG setting: other encoders (JPEG 2000) warn on stderr about it.
   const int params[] = {kImwriteJpegQuality, options.jpeg_quality};
-  char error[512] = "";
-  if (!plugin.write(path.c_str(), &image, params, jpeg ? std::size(params) : 0, error,
-                    sizeof(error)))
-    Fail("cannot write image {}: {}", path.string(), error);
+  WriteFileViaTemporary(path, [&](const std::filesystem::path& tmp) {
+    char error[512] = "";
+    if (!plugin.write(tmp.c_str(), &image, params, jpeg ? std::size(params) : 0, error,
+                      sizeof(error)))
+      Fail("cannot write image {}: {}", path.string(), error);
+  });
 }
 
 }  // namespace varsfm

@@ -20,8 +20,10 @@ namespace fs = std::filesystem;
 // apart, the counter the threads of one run.
 fs::path TemporarySibling(const fs::path& target) {
   static std::atomic<int> counter{0};
-  return target.parent_path() /
-         fmt::format(".{}.tmp-{}-{}", target.filename().string(), ::getpid(), counter++);
+  // The target's extension is kept last: writers that pick the format by it (OpenCV's
+  // encoders) write the temporary in the target's format.
+  return target.parent_path() / fmt::format(".{}.tmp-{}-{}{}", target.filename().string(),
+                                            ::getpid(), counter++, target.extension().string());
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ void WriteFileAtomically(const std::filesystem::path& file,
 void WriteJsonAtomically(const std::filesystem::path& file, const nlohmann::json& json);
 
 // The same for writers that open the file themselves (TinyGLTF, image encoders): `write` is
-// given the temporary's path and must create that file or throw.
+// given the temporary's path, which ends in the target's extension, and must create that file
+// or throw.
 void WriteFileViaTemporary(const std::filesystem::path& file,
                            const std::function<void(const std::filesystem::path&)>& write);
 
