@@ -62,7 +62,7 @@ TEST(WriteOutputsTogether, AFailedWriteRemovesTheWholeSet) {
   TempDir tmp("outputs_together");
   const fs::path out = tmp.path() / "out";
   WriteEveryOutput(out);
-  EXPECT_THROW(WriteOutputsTogether(out, {"dense.ply", "dense.ply.vis"},
+  EXPECT_THROW(WriteOutputsTogether(out, ChainStage::kDensify,
                                     [&] {
                                       std::ofstream(out / "dense.ply") << "new";
                                       Fail("{}: write failed (disk full?)", "dense.ply.vis");
@@ -72,7 +72,7 @@ TEST(WriteOutputsTogether, AFailedWriteRemovesTheWholeSet) {
   EXPECT_FALSE(fs::exists(out / "dense.ply.vis"));
   EXPECT_TRUE(fs::exists(out / "notes.txt"));
 
-  WriteOutputsTogether(out, {"textured", "model.glb"},
+  WriteOutputsTogether(out, ChainStage::kTexture,
                        [&] { std::ofstream(out / "model.glb") << "new"; });
   EXPECT_TRUE(fs::exists(out / "textured" / "model.obj"));
   EXPECT_TRUE(fs::exists(out / "model.glb"));

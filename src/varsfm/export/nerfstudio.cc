@@ -71,7 +71,7 @@ NerfstudioExportSummary ExportNerfstudio(const Reconstruction& reconstruction,
       // (re-encoded, its EXIF dropped); the others are copied as they are.
       const std::vector<uint8_t> bytes = ReadImageFile(image_dir / name);
       if (ExifOrientation(bytes.data(), bytes.size()) == 1)
-        std::filesystem::copy_file(image_dir / name, dir / "images" / name);
+        WriteBytesAtomically(dir / "images" / name, bytes);
       else
         WriteImage(dir / "images" / name, DecodeImage(image_dir / name, bytes, ColorMode::kColor));
     }

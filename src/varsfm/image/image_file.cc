@@ -42,13 +42,6 @@ cv::Mat DecodeWithPlugin(const std::filesystem::path& path, const std::vector<ui
   return pixels;
 }
 
-std::string LowerExtension(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 // Refuses a JPEG or PNG whose declared size is more than kMaxImagePixels, or (PNG) more than
 // its bytes can expand to: deflate expands at most 1032:1 (a 258-byte match in two 1-bit codes,
 // RFC 1951) and a pixel takes at least one bit, so a PNG holds at most 8 * 1032 pixels per byte.
@@ -72,6 +65,13 @@ void RequirePlausibleSize(const std::filesystem::path& path, const std::vector<u
 }
 
 }  // namespace
+
+std::string LowerCaseExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
 
 std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path) {
   std::error_code ec;
@@ -125,7 +125,7 @@ cv::Mat ReadImagePixels(const std::filesystem::path& path, ColorMode mode) {
 
 void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
                 const ImageWriteOptions& options) {
-  const std::string extension = LowerExtension(path);
+  const std::string extension = LowerCaseExtension(path);
   const bool jpeg = extension == ".jpg" || extension == ".jpeg" || extension == ".jpe";
   std::vector<uint8_t> bytes;
   bool encoded = false;
@@ -135,10 +135,7 @@ void WriteImage(const std::filesystem::path& path, const cv::Mat& image,
     encoded = EncodeJpeg(image, options.jpeg_quality, &bytes);
   }
   if (encoded) {
-    WriteFileAtomically(path, [&](std::ostream& out) {
-      out.write(reinterpret_cast<const char*>(bytes.data()),
-                static_cast<std::streamsize>(bytes.size()));
-    });
+    WriteBytesAtomically(path, bytes);
     return;
   }
   // Other formats, and image types the direct encoders do not take (OpenCV converts them).

@@ -7,6 +7,7 @@
 // GStreamer, FFmpeg, ...), out of every start of the varsfm binary.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -31,6 +32,10 @@ std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path);
 // and that cannot be loaded.
 cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
                     ColorMode mode);
+
+// The extension of `path` in lower case, with its dot (".jpg"; "" when it has none): the format
+// a file name claims.
+std::string LowerCaseExtension(const std::filesystem::path& path);
 
 // ReadImageFile then DecodeImage.
 cv::Mat ReadImagePixels(const std::filesystem::path& path, ColorMode mode = ColorMode::kColor);

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <map>
 #include <system_error>
 
+#include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -48,13 +48,6 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
     }
   }
   return names;
-}
-
-std::string LowerCaseExtension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 // Photo formats of cameras and phones that varsfm does not decode (HEIF is the iPhone's default;

@@ -194,7 +194,7 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
   }
   if (summary.frames_read == 0) Fail("cannot decode any frame of video {}", video.string());
   const double announced = capture.FrameCount();
-  if (std::isfinite(announced) && announced > 0) {
+  if (announced > 0 && announced < 1e12) {  // NaN, 0 and nonsense: unknown
     summary.frames_announced = static_cast<size_t>(announced);
     // Containers estimate the count for some formats: only a clear shortfall is reported.
     if (summary.frames_read < kDecodedShareWarned * announced)

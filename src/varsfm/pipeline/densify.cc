@@ -102,7 +102,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
   CreateFolder(options.output);
   RemoveOutputsAfter(options.output, ChainStage::kDensify);
-  WriteOutputsTogether(options.output, {"dense.ply", "dense.ply.vis"}, [&] {
+  WriteOutputsTogether(options.output, ChainStage::kDensify, [&] {
     WritePly(options.output / "dense.ply", cloud);
     WritePointVisibility(options.output / "dense.ply.vis", visibility);
   });

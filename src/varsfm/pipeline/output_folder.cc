@@ -19,6 +19,17 @@ bool HoldsVarsfmMarks(const std::filesystem::path& output) {
   return false;
 }
 
+// What each stage after `map` writes into the output folder: the one list of the chain's outputs.
+struct StageOutputs {
+  ChainStage stage;
+  std::vector<const char*> names;
+};
+const StageOutputs kStageOutputs[] = {
+    {ChainStage::kDensify, {"dense.ply", "dense.ply.vis", "dense_summary.json"}},
+    {ChainStage::kMesh, {"mesh.ply"}},
+    {ChainStage::kTexture, {"model.glb", "textured"}},
+    {ChainStage::kReport, {"report.html"}}};
+
 }  // namespace
 
 void CheckOutputFolderIsOurs(const std::filesystem::path& output) {
@@ -61,29 +72,21 @@ void CheckOutputOutsideImages(const std::filesystem::path& output,
 
 void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage) {
   if (!HoldsVarsfmMarks(output)) return;
-  struct StageOutputs {
-    ChainStage stage;
-    std::vector<const char*> names;
-  };
-  static const StageOutputs kOutputs[] = {
-      {ChainStage::kDensify, {"dense.ply", "dense.ply.vis", "dense_summary.json"}},
-      {ChainStage::kMesh, {"mesh.ply"}},
-      {ChainStage::kTexture, {"model.glb", "textured"}},
-      {ChainStage::kReport, {"report.html"}}};
   std::error_code ec;
-  for (const StageOutputs& outputs : kOutputs)
+  for (const StageOutputs& outputs : kStageOutputs)
     if (outputs.stage > stage)
       for (const char* name : outputs.names) std::filesystem::remove_all(output / name, ec);
 }
 
-void WriteOutputsTogether(const std::filesystem::path& output,
-                          std::initializer_list<const char*> names,
+void WriteOutputsTogether(const std::filesystem::path& output, ChainStage stage,
                           const std::function<void()>& write) {
   try {
     write();
   } catch (...) {
     std::error_code ec;
-    for (const char* name : names) std::filesystem::remove_all(output / name, ec);
+    for (const StageOutputs& outputs : kStageOutputs)
+      if (outputs.stage == stage)
+        for (const char* name : outputs.names) std::filesystem::remove_all(output / name, ec);
     throw;
   }
 }

@@ -5,7 +5,6 @@
 // folder of other files, or the photos themselves.
 #include <filesystem>
 #include <functional>
-#include <initializer_list>
 
 namespace varsfm {
 
@@ -24,12 +23,11 @@ enum class ChainStage { kMap, kDensify, kMesh, kTexture, kReport };
 // nothing is removed.
 void RemoveOutputsAfter(const std::filesystem::path& output, ChainStage stage);
 
-// Runs `write`, which writes the files or folders `names` into `output`. When it throws (a full
-// disk), every one of `names` is removed, the old ones too, before the error goes on: a stage's
-// outputs are read together (the cloud and its visibility, the OBJ and the glb), and a new one
-// beside an old or a missing one would be taken for a pair.
-void WriteOutputsTogether(const std::filesystem::path& output,
-                          std::initializer_list<const char*> names,
+// Runs `write`, which writes the outputs of `stage` into `output`. When it throws (a full
+// disk), every output of `stage` is removed, the old ones too, before the error goes on: a
+// stage's outputs are read together (the cloud and its visibility, the OBJ and the glb), and a
+// new one beside an old or a missing one would be taken for a pair.
+void WriteOutputsTogether(const std::filesystem::path& output, ChainStage stage,
                           const std::function<void()>& write);
 
 // Throws varsfm::Error when `output` is `image_dir` or lies inside it: the photos are listed

@@ -35,7 +35,7 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
         "settings: nothing to texture",
         options.mesh.string(), result.stats.num_faces);
   RemoveOutputsAfter(options.output, ChainStage::kTexture);
-  WriteOutputsTogether(options.output, {"textured", "model.glb"}, [&] {
+  WriteOutputsTogether(options.output, ChainStage::kTexture, [&] {
     WriteTexturedObj(options.output / "textured", textured, "model");
     WriteGlb(options.output / "model.glb", textured);
   });

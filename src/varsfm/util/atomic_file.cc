@@ -56,6 +56,13 @@ void WriteFileAtomically(const fs::path& file, const std::function<void(std::ost
   });
 }
 
+void WriteBytesAtomically(const fs::path& file, const std::vector<uint8_t>& bytes) {
+  WriteFileAtomically(file, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+  });
+}
+
 void WriteJsonAtomically(const fs::path& file, const nlohmann::json& json) {
   WriteFileAtomically(file, [&](std::ostream& out) { out << json.dump(2) << "\n"; });
 }

@@ -3,6 +3,7 @@
 // temporary beside the target, which is renamed onto it only once it is fully written. A run
 // that fails or is killed mid-write never leaves a truncated file that a later stage, a viewer
 // or another tool would read as valid.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <ostream>
@@ -19,6 +20,9 @@ namespace varsfm {
 // temporary is removed on any failure, and an exception from `write` is rethrown.
 void WriteFileAtomically(const std::filesystem::path& file,
                          const std::function<void(std::ostream& out)>& write);
+
+// `bytes` as the whole content of `file`.
+void WriteBytesAtomically(const std::filesystem::path& file, const std::vector<uint8_t>& bytes);
 
 // `json` as the project writes its JSON files (summary.json, ...): indented by 2, a final newline.
 void WriteJsonAtomically(const std::filesystem::path& file, const nlohmann::json& json);

@@ -56,14 +56,9 @@ void Progress::Finish() {
 }
 
 std::string Progress::RateAndEta(size_t done) const {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  // Over the first instants a rate is noise (a first item that had nothing to do gave
-  // "7.23e+05/s"): shown from kMinRateSeconds on.
-  if (done == 0 || elapsed < kMinRateSeconds) return "";
-  const double rate = done / elapsed;
-  if (done >= total_) return fmt::format("{:.3g}/s, {}", rate, FormatDuration(elapsed));
-  return fmt::format("{:.3g}/s, {} left", rate, FormatDuration((total_ - done) / rate));
+  return FormatRateAndEta(
+      done, total_,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
 }
 
 void Progress::Draw(size_t done, const std::string& status, bool force) {
@@ -87,6 +82,13 @@ void Progress::Draw(size_t done, const std::string& status, bool force) {
     last_logged_decile_ = decile;
     info("{}: {}/{}{} {}", label_, done, total_, rate.empty() ? "" : " (" + rate + ")", status);
   }
+}
+
+std::string FormatRateAndEta(size_t done, size_t total, double elapsed_seconds) {
+  if (done == 0 || elapsed_seconds < kMinRateSeconds) return "";
+  const double rate = done / elapsed_seconds;
+  if (done >= total) return fmt::format("{:.3g}/s, {}", rate, FormatDuration(elapsed_seconds));
+  return fmt::format("{:.3g}/s, {} left", rate, FormatDuration((total - done) / rate));
 }
 
 }  // namespace varsfm

@@ -43,4 +43,9 @@ class Progress {
   std::string status_;
 };
 
+// "R/s, T left" (or "R/s, T" once done = total) after `elapsed_seconds`; "" before any work is
+// done and over the first instants, where a rate is noise (a first item that had nothing to do
+// gave "7.23e+05/s").
+std::string FormatRateAndEta(size_t done, size_t total, double elapsed_seconds);
+
 }  // namespace varsfm
