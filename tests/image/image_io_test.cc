@@ -47,6 +47,20 @@ TEST(ListImages, SortedRecursiveRelativeNamesOfImageFilesOnly) {
   EXPECT_EQ(ListImages(dir.path()), expected);
 }
 
+// Hidden files and folders are not the user's photos: macOS's "._" metadata beside each copied
+// photo, a file manager's thumbnails.
+TEST(ListImages, HiddenFilesAndFoldersAreSkipped) {
+  testing::TempDir dir("list_images_hidden");
+  fs::create_directories(dir.path() / ".thumbnails" / "normal");
+  fs::create_directories(dir.path() / "sub");
+  for (const char* name : {"a.jpg", "._a.jpg", ".hidden.png", ".thumbnails/a.jpg",
+                           ".thumbnails/normal/b.png", "sub/c.jpg", "sub/._c.jpg"}) {
+    Touch(dir.path() / name);
+  }
+  const std::vector<std::string> expected = {"a.jpg", "sub/c.jpg"};
+  EXPECT_EQ(ListImages(dir.path()), expected);
+}
+
 TEST(ListImages, MissingFolderOrFileIsAnError) {
   testing::TempDir dir("list_images_missing");
   EXPECT_THROW(ListImages(dir.path() / "absent"), Error);

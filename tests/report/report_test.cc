@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
 #include "report/synthetic_output.h"
@@ -119,6 +121,35 @@ TEST(ReportData, ReadingTheWorkspaceLeavesNoLogBesideIt) {
   EXPECT_EQ(data.images.size(), 6u);
   EXPECT_FALSE(std::filesystem::exists(tmp.path() / "workspace.db-wal"));
   EXPECT_FALSE(std::filesystem::exists(tmp.path() / "workspace.db-shm"));
+}
+
+// A file of the photo folder that extract could not read is listed as not extracted; it is no
+// missing photo of the model, so the warning about thumbnails does not name it.
+TEST(ReportData, AnUnreadablePhotoIsListedAsNotExtractedWithoutAThumbnailWarning) {
+  TempDir tmp("report_data_unreadable");
+  WriteSyntheticOutput(tmp.path());
+  std::ofstream(tmp.path() / "images" / "zz_broken.jpg") << "not a photo";
+  std::ostringstream log;
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_st>(log)));
+  const ReportData data = CollectReportData(tmp.path(), {});
+  spdlog::set_default_logger(previous);
+  ASSERT_EQ(data.images.size(), 7u);
+  EXPECT_EQ(data.images.back().name, "zz_broken.jpg");
+  EXPECT_NE(data.images.back().failure.find("not extracted"), std::string::npos)
+      << data.images.back().failure;
+  EXPECT_TRUE(data.images.back().thumbnail.empty());
+  EXPECT_EQ(log.str().find("thumbnails"), std::string::npos) << log.str();
+
+  // A photo of the model that has gone is named.
+  std::filesystem::remove(tmp.path() / "images" / data.images.front().name);
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>(
+      "capture", std::make_shared<spdlog::sinks::ostream_sink_st>(log)));
+  CollectReportData(tmp.path(), {});
+  spdlog::set_default_logger(previous);
+  EXPECT_NE(log.str().find("1 of 6 photos not found or unreadable"), std::string::npos)
+      << log.str();
 }
 
 TEST(ReportData, AnImageInAnotherModelIsSaidToBeThere) {

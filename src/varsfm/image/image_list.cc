@@ -82,6 +82,7 @@ std::vector<std::string> ListImages(const fs::path& dir) {
 
   std::vector<FoundImage> found;
   std::vector<std::string> unreadable;  // photos in formats varsfm does not read
+  std::vector<std::string> hidden;      // hidden files and folders with image files in reach
   fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink, ec);
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
@@ -90,6 +91,17 @@ std::vector<std::string> ListImages(const fs::path& dir) {
     // its target's name); generic_string() gives '/' separators, as COLMAP stores names.
     const std::string name = it->path().lexically_relative(dir).generic_string();
     std::error_code status_ec;
+    // Hidden names are not the user's photos: macOS's "._IMG_0001.jpg" metadata beside each
+    // copied photo, a file manager's .thumbnails/ of small copies, a .git/ folder.
+    if (it->path().filename().string().starts_with('.')) {
+      if (it->is_directory(status_ec)) {
+        it.disable_recursion_pending();
+        hidden.push_back(name + "/");
+      } else if (HasImageExtension(it->path())) {
+        hidden.push_back(name);
+      }
+      continue;
+    }
     if (it->is_directory(status_ec)) {
       // A linked folder that contains the link (e.g. `sub -> .`) would be listed again and
       // again down to the system's depth limit.
@@ -120,6 +132,9 @@ std::vector<std::string> ListImages(const fs::path& dir) {
     }
     found.push_back({name, std::move(file)});
   }
+  if (!hidden.empty())
+    info("skipping {} hidden file(s) or folder(s) (names starting with '.', e.g. {})",
+         hidden.size(), hidden.front());
   if (!unreadable.empty())
     warn(
         "skipping {} photo(s) in a format varsfm does not read (e.g. {}): convert them to JPEG or "

@@ -11,7 +11,8 @@ bool HasImageExtension(const std::filesystem::path& path);
 
 // Every image file under `dir` (recursively), as '/'-separated names relative to `dir`, sorted
 // by name so that image ids follow the names as in COLMAP. Files with other extensions are
-// ignored. Throws varsfm::Error when `dir` is not a readable folder.
+// ignored, and so are hidden files and folders (names starting with '.'). Throws varsfm::Error
+// when `dir` is not a readable folder.
 std::vector<std::string> ListImages(const std::filesystem::path& dir);
 
 }  // namespace varsfm

@@ -5,8 +5,8 @@
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
-#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
@@ -24,6 +24,7 @@ DemoSummary RunDemo(const DemoOptions& options) {
   const auto image_dir = options.output / "images";
   const auto gt_dir = options.output / "gt";
   Timer timer;
+  OutputFolderLock output_lock(options.output);
   // The scene is rendered into the output folder, so the folder is checked before, as `run`
   // would check it (output_folder.h): not a folder of other files, nor another run's.
   CheckOutputFolderIsOurs(options.output);
@@ -31,7 +32,7 @@ DemoSummary RunDemo(const DemoOptions& options) {
     if (std::filesystem::exists(options.output / "workspace.db"))
       Fail("output folder {} holds another run's workspace: give a new or empty folder",
            options.output.string());
-    CreateFolder(options.output);
+    output_lock.CreateAndLock();
     Database(options.output / "workspace.db");  // marks the folder as varsfm's for `run`
     info("demo: rendering {} images of a synthetic scene (zoom x{:.1f}) into {}",
          options.scene.num_images, options.scene.zoom, image_dir.string());

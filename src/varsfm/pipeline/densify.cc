@@ -12,8 +12,8 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
-#include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/timer.h"
 
@@ -86,6 +86,7 @@ void DensifyOptions::Check() const {
 
 DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
+  OutputFolderLock output_lock(options.output);
   Timer timer;
   if (!options.workspace.empty() && !std::filesystem::exists(options.workspace))
     Fail("workspace {} does not exist", options.workspace.string());
@@ -100,7 +101,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
-  CreateFolder(options.output);
+  output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kDensify);
   WriteOutputsTogether(options.output, ChainStage::kDensify, [&] {
     WritePly(options.output / "dense.ply", cloud);

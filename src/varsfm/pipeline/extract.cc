@@ -20,6 +20,7 @@
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/file_fingerprint.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
@@ -416,6 +417,7 @@ ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) 
   if (!first_image) Fail("no readable image in {}", input.dir.string());
 
   if (!options.workspace.parent_path().empty()) CreateFolder(options.workspace.parent_path());
+  const FolderLock lock(WorkspaceFolder(options.workspace));
   std::error_code ec;
   const bool created = !fs::exists(options.workspace, ec);
   try {

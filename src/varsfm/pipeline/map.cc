@@ -16,6 +16,7 @@
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
@@ -233,6 +234,8 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
     Fail("image folder {} does not exist", options.image_dir.string());
   CheckOutputFolderIsOurs(options.output);
   if (!options.image_dir.empty()) CheckOutputOutsideImages(options.output, options.image_dir);
+  const FolderLock workspace_lock(WorkspaceFolder(options.workspace));
+  OutputFolderLock output_lock(options.output);
   Timer total;
   LoadedWorkspace ws = LoadWorkspace(options);
   std::future<KeypointColors> colors;
@@ -277,6 +280,7 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
   // `sparse` (and the output folder above it) exists first, so the text and binary writers
   // each rename their own files into it (WriteFilesAtomically) rather than race to rename a
   // whole folder there.
+  output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kMap);
   CreateFolder(sparse);
   std::future<void> text =

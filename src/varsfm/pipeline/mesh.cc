@@ -6,8 +6,8 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
-#include "varsfm/util/new_folder.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -16,6 +16,7 @@ void MeshOptions::Check() const { surface.Check(); }
 
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
+  OutputFolderLock output_lock(options.output);
   Timer timer;
   const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method, options.sparse);
   MeshSummary result;
@@ -25,7 +26,7 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   } catch (const Error& e) {
     Fail("{}: {}", options.input.string(), e.what());
   }
-  CreateFolder(options.output);
+  output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kMesh);
   WriteMeshPly(options.output / "mesh.ply", mesh);
 

@@ -1,11 +1,13 @@
 #include "varsfm/pipeline/report.h"
 
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
 
 ReportSummary RunReport(const ReportOptions& options, OptionsCheck check) {
+  const OutputFolderLock output_lock(options.output);
   Timer timer;
   const ReportSummary result = WriteReport(options, check);
   info("report: wrote {} ({:.1f} MB{}) in {:.2f} s", result.file.string(), result.bytes / 1e6,

@@ -11,8 +11,8 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
-#include "varsfm/util/new_folder.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -101,10 +101,11 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   if (fs::exists(options.output) && !fs::is_directory(options.output))
     Fail("output {} exists and is not a folder", options.output.string());
   const bool created_output = !fs::exists(options.output);
+  OutputFolderLock output_lock(options.output);
   CheckOutputFolderIsOurs(options.output);
   if (!video) CheckOutputOutsideImages(options.output, options.input);
   CheckWorkspaceHoldsOnlyInput(options.output / "workspace.db", options.input, video);
-  CreateFolder(options.output);
+  output_lock.CreateAndLock();
 
   RunSummary result;
   MatchStrategy strategy = options.matching;

@@ -9,6 +9,7 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
 
@@ -21,6 +22,7 @@ void TextureOptions::Check() const {
 
 TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
+  OutputFolderLock output_lock(options.output);
   Timer timer;
   const TriangleMesh mesh = ReadMeshPly(options.mesh);
   const Reconstruction rec =
@@ -34,6 +36,7 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
         "texture: no face of {} ({} faces) is seen by a registered photo within the texture "
         "settings: nothing to texture",
         options.mesh.string(), result.stats.num_faces);
+  output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kTexture);
   WriteOutputsTogether(options.output, ChainStage::kTexture, [&] {
     WriteTexturedObj(options.output / "textured", textured, "model");

@@ -227,17 +227,22 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
       data.summary["image_dir"].is_string())
     image_dir = data.summary["image_dir"].get<std::string>();
   if (have_workspace && !image_dir.empty()) AddUnextractedPhotos(image_dir, &data.images);
-  std::vector<std::string> without_photo;  // named in one warning: the report shows no thumbnail
+  // Extracted photos the report shows without a thumbnail, named in one warning (a photo that
+  // was never extracted says why in its row: extract could not read it either).
+  std::vector<std::string> without_photo;
+  size_t num_extracted = 0;
   for (ReportImage& image : data.images) {
     if (!image.registered)
       image.failure = FailureReason(image, data.summary, have_workspace, data.min_pair_inliers);
+    const bool extracted = image.image_id != kInvalidImageId;
+    num_extracted += extracted;
     if (image_dir.empty()) continue;
     if (auto thumb = MakeThumbnail(image_dir / image.name, options.thumbnail_width,
                                    options.thumbnail_quality)) {
       image.thumbnail = std::move(thumb->jpeg_base64);
       image.thumbnail_width = thumb->width;
       image.thumbnail_height = thumb->height;
-    } else {
+    } else if (extracted) {
       without_photo.push_back(image.name);
     }
   }
@@ -245,7 +250,7 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
     warn(
         "report: {} of {} photos not found or unreadable in {} (e.g. {}): shown without "
         "thumbnails; --images names the photo folder",
-        without_photo.size(), data.images.size(), image_dir.string(), without_photo.front());
+        without_photo.size(), num_extracted, image_dir.string(), without_photo.front());
 
   const auto dense = PlyElementCounts(output / "dense.ply");
   if (dense.count("vertex")) data.dense_points = dense.at("vertex");

@@ -1,0 +1,85 @@
+#include "varsfm/util/folder_lock.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <utility>
+
+#include "varsfm/util/error.h"
+#include "varsfm/util/new_folder.h"
+
+namespace varsfm {
+namespace {
+
+// The folders this process holds: descriptor and how many FolderLocks share it.
+struct HeldLock {
+  int fd = -1;
+  int count = 0;
+};
+std::mutex held_mutex;
+std::map<std::string, HeldLock>& HeldLocks() {
+  static std::map<std::string, HeldLock> held;
+  return held;
+}
+
+}  // namespace
+
+FolderLock::FolderLock(const std::filesystem::path& folder) {
+  std::error_code ec;
+  key_ = std::filesystem::canonical(folder, ec).string();
+  if (ec) Fail("cannot lock folder {}: {}", folder.string(), ec.message());
+  const std::lock_guard<std::mutex> guard(held_mutex);
+  HeldLock& held = HeldLocks()[key_];
+  if (held.count > 0) {
+    ++held.count;
+    return;
+  }
+  const int fd = ::open(key_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) {
+    const int error = errno;
+    HeldLocks().erase(key_);
+    Fail("cannot lock folder {}: {}", folder.string(), std::strerror(error));
+  }
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    ::close(fd);
+    HeldLocks().erase(key_);
+    if (error == EWOULDBLOCK)
+      Fail(
+          "{} is in use by another varsfm command, which writes there now: wait for it to end, or "
+          "give another folder",
+          folder.string());
+    Fail("cannot lock folder {}: {}", folder.string(), std::strerror(error));
+  }
+  held = {fd, 1};
+}
+
+FolderLock::~FolderLock() {
+  const std::lock_guard<std::mutex> guard(held_mutex);
+  auto it = HeldLocks().find(key_);
+  if (it == HeldLocks().end() || --it->second.count > 0) return;
+  ::close(it->second.fd);  // releases the flock
+  HeldLocks().erase(it);
+}
+
+OutputFolderLock::OutputFolderLock(std::filesystem::path output) : output_(std::move(output)) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(output_, ec)) lock_.emplace(output_);
+}
+
+void OutputFolderLock::CreateAndLock() {
+  CreateFolder(output_);
+  if (!lock_) lock_.emplace(output_);
+}
+
+std::filesystem::path WorkspaceFolder(const std::filesystem::path& workspace) {
+  const std::filesystem::path parent = workspace.parent_path();
+  return parent.empty() ? std::filesystem::path(".") : parent;
+}
+
+}  // namespace varsfm
