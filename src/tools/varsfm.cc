@@ -469,8 +469,11 @@ void AddMeshCommand(CLI::App* app) {
   varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;
   AddWithDefault(cmd, "--merge-spacing", delaunay.merge_spacing,
                  "delaunay: merge points within this x the cloud's average spacing");
-  AddWithDefault(cmd, "--max-edge-factor", delaunay.max_edge_factor,
+  AddWithDefault(cmd, "--max-edge-factor", delaunay.long_faces.max_edge_factor,
                  "delaunay: drop faces with an edge above this x the median edge (0: keep)");
+  cmd->add_flag("--keep-enclosed-long-faces", delaunay.long_faces.keep_enclosed,
+                "delaunay: keep the long faces that fill a hole the views see enclosed by the "
+                "surface (closes holes in weakly textured objects; their texture is poor)");
   AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
                  "delaunay: close boundary loops of at most this many edges (0: none)");
   AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,

@@ -117,7 +117,7 @@ TEST(DelaunaySurface, SameBitsOnOneAndTwoThreads) {
   cloud = gappy;
   const double spacing = AverageNearestSpacing(cloud.points);
   DelaunaySurfaceOptions options;
-  options.max_edge_factor = 2;
+  options.long_faces.max_edge_factor = 2;
   options.hole_filling.max_edges = 100;
   TriangleMesh meshes[2];
   DelaunaySurfaceStats stats[2];
@@ -125,7 +125,7 @@ TEST(DelaunaySurface, SameBitsOnOneAndTwoThreads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     meshes[threads - 1] = ReconstructDelaunaySurface(cloud, spacing, options, &stats[threads - 1]);
   }
-  EXPECT_GT(stats[0].long_faces, 0u);
+  EXPECT_GT(stats[0].long_faces.long_faces, 0u);
   EXPECT_GT(stats[0].holes.filled_loops, 0u);
   EXPECT_EQ(stats[0].holes.added_faces, stats[1].holes.added_faces);
   EXPECT_EQ(meshes[0].faces, meshes[1].faces);
@@ -202,7 +202,9 @@ TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
   }
   WritePointVisibility(dir.path() / "dense.ply.vis", ids);
 
-  const PointCloud read = ReadSurfaceInput(ply, SurfaceMethod::kDelaunay);  // OUT/sparse
+  const SurfaceInput input = ReadSurfaceInput(ply, SurfaceMethod::kDelaunay);  // OUT/sparse
+  const PointCloud& read = input.cloud;
+  EXPECT_EQ(input.views.size(), model.NumRegisteredImages());
   ASSERT_EQ(read.viewpoints.size(), seen.viewpoints.size());
   for (size_t v = 0; v < seen.viewpoints.size(); ++v)
     EXPECT_LT((read.viewpoints[v] - seen.viewpoints[v]).norm(), 1e-9);
@@ -216,7 +218,7 @@ TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
   EXPECT_GT(a.faces.size(), 1000u);
   // A model folder given explicitly, and the one-line errors of a mismatched pair.
   EXPECT_EQ(ReadSurfaceInput(ply, SurfaceMethod::kDelaunay, dir.path() / "sparse" / "0")
-                .visibility.size(),
+                .cloud.visibility.size(),
             seen.points.size());
   PointCloud other = bare;
   ids[0].push_back(99);  // no such image

@@ -254,7 +254,7 @@ TEST(Surface, BadInputGivesOneLineErrorNamingTheFile) {
   const auto bare = dir.path() / "bare.ply";
   WritePly(bare, no_normals);
   expect_error(bare, SurfaceMethod::kScreenedPoisson, "normals");
-  EXPECT_EQ(ReadSurfaceInput(bare, SurfaceMethod::kAdvancingFront).points.size(), 100u);
+  EXPECT_EQ(ReadSurfaceInput(bare, SurfaceMethod::kAdvancingFront).cloud.points.size(), 100u);
 
   EXPECT_THROW(ReconstructSurface(Sphere(5), {}), Error);
   EXPECT_THROW(ParseSurfaceMethod("marching"), Error);

@@ -156,25 +156,6 @@ TriangleMesh ExtractSurface(const Tetrahedra& tets, const std::vector<bool>& ins
   return mesh;
 }
 
-// Removes the faces with an edge longer than factor x the median edge length; returns how many.
-size_t RemoveLongFaces(double factor, TriangleMesh* mesh) {
-  if (factor <= 0 || mesh->faces.empty()) return 0;
-  const auto longest = [&](const Eigen::Vector3i& f) {
-    const Eigen::Vector3d &a = mesh->vertices[f[0]], &b = mesh->vertices[f[1]],
-                          &c = mesh->vertices[f[2]];
-    return std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  };
-  std::vector<double> lengths;
-  lengths.reserve(mesh->faces.size());
-  for (const Eigen::Vector3i& f : mesh->faces) lengths.push_back(longest(f));
-  const auto middle = lengths.begin() + static_cast<ptrdiff_t>(lengths.size() / 2);
-  std::nth_element(lengths.begin(), middle, lengths.end());
-  const double limit = factor * factor * *middle;  // squared lengths
-  const size_t before = mesh->faces.size();
-  std::erase_if(mesh->faces, [&](const Eigen::Vector3i& f) { return longest(f) > limit; });
-  return before - mesh->faces.size();
-}
-
 // Removes the connected parts (faces sharing vertices) with fewer than min_fraction of the
 // faces; returns how many faces went.
 size_t RemoveSmallComponents(double min_fraction, TriangleMesh* mesh) {
@@ -194,7 +175,7 @@ void DelaunaySurfaceOptions::Check() const {
   CheckPositive("--merge-spacing", merge_spacing);
   CheckPositive("--sigma", sigma);
   CheckNonNegative("--quality-weight", quality_weight);
-  CheckNonNegative("--max-edge-factor", max_edge_factor);
+  long_faces.Check();
   CheckFraction("--min-component", min_component_fraction);
   CheckNonNegative("--smoothing", smoothing_iterations);
   hole_filling.Check();
@@ -202,7 +183,8 @@ void DelaunaySurfaceOptions::Check() const {
 
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
                                         const DelaunaySurfaceOptions& options,
-                                        DelaunaySurfaceStats* stats) {
+                                        DelaunaySurfaceStats* stats,
+                                        const std::vector<SurfaceView>& views) {
   if (!cloud.HasVisibility())
     Fail(
         "the Delaunay surface needs the points' visibility (the cameras that saw each point); "
@@ -227,7 +209,7 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   const std::vector<bool> inside = LabelCells(tets, weights, options.quality_weight);
   s.inside_cells = static_cast<size_t>(std::count(inside.begin(), inside.end(), true));
   TriangleMesh mesh = ExtractSurface(tets, inside);
-  s.long_faces = RemoveLongFaces(options.max_edge_factor, &mesh);
+  s.long_faces = RemoveLongFaces(options.long_faces, views, &mesh);
   s.removed_faces = RemoveSmallComponents(options.min_component_fraction, &mesh);
   s.holes = FillSmallHoles(options.hole_filling, &mesh);
   RemoveUnreferencedVertices(&mesh);
@@ -235,11 +217,11 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   s.seconds_cut = timer.Seconds();
   spdlog::info(
       "surface: Delaunay of {} merged points ({} cells, {:.1f} s), {} rays ({:.1f} s), {} inside "
-      "cells, {} faces ({} long and {} in small parts removed; {} of {} boundary loops filled "
-      "with {} faces; cut {:.1f} s)",
+      "cells, {} faces ({} long faces, {} of them kept in enclosed holes; {} in small parts "
+      "removed; {} of {} boundary loops filled with {} faces; cut {:.1f} s)",
       s.merged_points, s.cells, s.seconds_tetrahedra, s.rays, s.seconds_rays, s.inside_cells,
-      mesh.faces.size(), s.long_faces, s.removed_faces, s.holes.filled_loops, s.holes.loops,
-      s.holes.added_faces, s.seconds_cut);
+      mesh.faces.size(), s.long_faces.long_faces, s.long_faces.kept, s.removed_faces,
+      s.holes.filled_loops, s.holes.loops, s.holes.added_faces, s.seconds_cut);
   if (mesh.faces.empty()) Fail("the visibility cut labelled no tetrahedron inside: no surface");
   return mesh;
 }

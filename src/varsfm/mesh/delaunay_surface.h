@@ -12,7 +12,10 @@
 // smoothed) data point.
 #include <cstddef>
 
+#include <vector>
+
 #include "varsfm/mesh/hole_filling.h"
+#include "varsfm/mesh/long_faces.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/triangle_mesh.h"
 
@@ -33,13 +36,9 @@ struct DelaunaySurfaceOptions {
   // costs lambda (1 - min(cos phi, cos psi)), phi and psi the angles between the facet and the
   // circumspheres of its two tetrahedra.
   double quality_weight = 1.0;
-  // Faces with an edge longer than this many times the surface's median edge length are
-  // removed (the small holes they leave are filled, hole_filling below): where the cut
-  // closes the inside volume along the convex hull or across space
-  // no point sampled (behind a facade, under a sheet seen from one side), it does so with long
-  // facets between far-apart points, which no camera saw and which lie off the true surface.
-  // 0 keeps them.
-  double max_edge_factor = 8.0;
+  // The long faces (long_faces.h): removed (optionally but those the views see fill holes the
+  // surface encloses); the small holes left are filled (hole_filling below).
+  LongFaceOptions long_faces;
   // Taubin lambda|mu passes (smoothing.h) over the surface: its vertices are dense points and
   // carry their depth noise. 0: the vertices stay on the data.
   int smoothing_iterations = 10;
@@ -58,18 +57,20 @@ struct DelaunaySurfaceStats {
   size_t cells = 0;
   size_t rays = 0;
   size_t inside_cells = 0;
-  size_t long_faces = 0;     // removed for an edge above max_edge_factor x the median
+  LongFaceStats long_faces;
   size_t removed_faces = 0;  // in small components
   HoleFillingStats holes;
   double seconds_tetrahedra = 0, seconds_rays = 0, seconds_cut = 0;
 };
 
 // `spacing`: the cloud's average point spacing (AverageNearestSpacing); `options` must have
-// passed Check() (SurfaceOptions::Check, where the mesh stage starts). Throws varsfm::Error when
-// the cloud has no visibility, too few points, or the cut leaves no surface. Deterministic for
-// any thread count (the rays' weights are summed in integers).
+// passed Check() (SurfaceOptions::Check, where the mesh stage starts); `views`: the registered
+// cameras that judge the long faces (none: every long face is removed). Throws varsfm::Error
+// when the cloud has no visibility, too few points, or the cut leaves no surface. Deterministic
+// for any thread count (the rays' weights are summed in integers).
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
                                         const DelaunaySurfaceOptions& options,
-                                        DelaunaySurfaceStats* stats = nullptr);
+                                        DelaunaySurfaceStats* stats = nullptr,
+                                        const std::vector<SurfaceView>& views = {});
 
 }  // namespace varsfm

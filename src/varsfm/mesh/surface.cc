@@ -94,7 +94,7 @@ void SurfaceOptions::Check() const {
 }
 
 TriangleMesh ReconstructSurface(const PointCloud& input, const SurfaceOptions& options,
-                                SurfaceStats* stats) {
+                                SurfaceStats* stats, const std::vector<SurfaceView>& views) {
   if (input.points.size() < 10) {
     Fail("{} points are too few for a surface (need at least 10)", input.points.size());
   }
@@ -127,9 +127,10 @@ TriangleMesh ReconstructSurface(const PointCloud& input, const SurfaceOptions& o
     if (options.density_trim_levels > 0)
       TrimByDensity(surface.densities, s.depth - options.density_trim_levels, &mesh);
   } else if (options.method == SurfaceMethod::kDelaunay) {
-    mesh = ReconstructDelaunaySurface(cloud, spacing, options.delaunay, &s.delaunay);
+    mesh = ReconstructDelaunaySurface(cloud, spacing, options.delaunay, &s.delaunay, views);
     s.used_points = s.delaunay.merged_points;
-    s.faces_before_trim = mesh.faces.size() + s.delaunay.long_faces + s.delaunay.removed_faces;
+    s.faces_before_trim = mesh.faces.size() + s.delaunay.long_faces.long_faces -
+                          s.delaunay.long_faces.kept + s.delaunay.removed_faces;
   } else {
     const PointCloud used = LimitPoints(cloud, options.max_points, cloud_spacing);
     if (used.points.size() != cloud.points.size()) spacing = AverageNearestSpacing(used.points);

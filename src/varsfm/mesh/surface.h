@@ -16,6 +16,7 @@
 // mesher starts from one inner point of the implicit function and meshes what it reaches from
 // there). It also needed the cloud cut to 60,000 points to run in time.
 #include <string>
+#include <vector>
 
 #include "varsfm/mesh/decimation.h"
 #include "varsfm/mesh/delaunay_surface.h"
@@ -81,8 +82,10 @@ struct SurfaceStats {
 // extent or spans far more than its spacing (surface_points.h), the reconstruction fails, or the
 // mesh before decimation fails the check. Vertex colours come from the nearest input point when
 // it has colours.
+// `views`: the registered cameras, which judge the Delaunay surface's long faces (long_faces.h).
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
-                                SurfaceStats* stats = nullptr);
+                                SurfaceStats* stats = nullptr,
+                                const std::vector<SurfaceView>& views = {});
 
 // The names the command line takes (`--method`, `--surface`), the default first.
 inline constexpr EnumName<SurfaceMethod> kSurfaceMethodNames[] = {

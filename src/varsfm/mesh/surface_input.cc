@@ -9,18 +9,12 @@
 namespace varsfm {
 namespace {
 
-// The visibility beside `file` (file.vis) with the camera centres of `sparse`.
-void ReadVisibilityBeside(const std::filesystem::path& file, const std::filesystem::path& sparse,
-                          PointCloud* cloud) {
+// The visibility beside `file` (file.vis) with the camera centres of `model` (read from
+// `model_dir`).
+void ReadVisibilityBeside(const std::filesystem::path& file, const std::filesystem::path& model_dir,
+                          const Reconstruction& model, PointCloud* cloud) {
   std::filesystem::path vis = file;
   vis += ".vis";
-  if (!std::filesystem::is_regular_file(vis))
-    Fail(
-        "{}: the Delaunay surface needs the points' visibility, in the PLY or beside it as {} "
-        "(written by densify); try --method poisson",
-        file.string(), vis.filename().string());
-  const std::filesystem::path model_dir = sparse.empty() ? file.parent_path() / "sparse" : sparse;
-  const Reconstruction model = ReadColmapModel(model_dir);
   try {
     AttachVisibility(ReadPointVisibility(vis), model, cloud);
   } catch (const Error& e) {
@@ -54,17 +48,33 @@ void AttachVisibility(const PointVisibility& visibility, const Reconstruction& m
   }
 }
 
-PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                            const std::filesystem::path& sparse) {
+SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
+                              const std::filesystem::path& sparse) {
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
-  PointCloud cloud = ReadPly(file);
+  SurfaceInput input;
+  PointCloud& cloud = input.cloud;
+  cloud = ReadPly(file);
   if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
   if (method == SurfaceMethod::kScreenedPoisson && !cloud.HasNormals()) {
     Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
   }
-  if (method == SurfaceMethod::kDelaunay && !cloud.HasVisibility())
-    ReadVisibilityBeside(file, sparse, &cloud);
-  return cloud;
+  if (method != SurfaceMethod::kDelaunay) return input;
+  std::filesystem::path vis = file;
+  vis += ".vis";
+  if (!cloud.HasVisibility() && !std::filesystem::is_regular_file(vis))
+    Fail(
+        "{}: the Delaunay surface needs the points' visibility, in the PLY or beside it as {} "
+        "(written by densify); try --method poisson",
+        file.string(), vis.filename().string());
+  const std::filesystem::path model_dir = sparse.empty() ? file.parent_path() / "sparse" : sparse;
+  // A cloud with its own visibility (match propagation's) needs no model: without one beside it,
+  // every long face goes.
+  if (cloud.HasVisibility() && !std::filesystem::exists(model_dir)) return input;
+  const Reconstruction model = ReadColmapModel(model_dir);
+  if (!cloud.HasVisibility()) ReadVisibilityBeside(file, model_dir, model, &cloud);
+  for (const auto& [id, image] : model.images())
+    if (image.registered) input.views.push_back({model.CameraOf(id), image.cam_from_world});
+  return input;
 }
 
 }  // namespace varsfm

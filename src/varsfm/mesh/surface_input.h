@@ -6,6 +6,7 @@
 // the layout of COLMAP's fused.ply.vis (io/point_visibility.h), whose camera centres come from
 // the sparse model the cloud was made from.
 #include <filesystem>
+#include <vector>
 
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/mesh/surface.h"
@@ -20,12 +21,19 @@ namespace varsfm {
 void AttachVisibility(const PointVisibility& visibility, const Reconstruction& model,
                       PointCloud* cloud);
 
+struct SurfaceInput {
+  PointCloud cloud;
+  // Delaunay: the registered cameras of the model, which judge the long faces (long_faces.h);
+  // empty for the other methods, and for a cloud with its own visibility and no model beside it.
+  std::vector<SurfaceView> views;
+};
+
 // Reads `file`. Throws varsfm::Error (one line naming the file) when it is missing, unreadable or
 // empty, or lacks the normals (Poisson) or visibility (Delaunay) that `method` needs. For the
-// Delaunay surface, a PLY without its own visibility takes `file`.vis with the camera centres
-// of the model in `sparse` (a model folder or its parent, io/colmap_model.h); an empty `sparse`
-// means `file`'s folder/sparse, where `varsfm run` writes it.
-PointCloud ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                            const std::filesystem::path& sparse = {});
+// Delaunay surface, the model in `sparse` (a model folder or its parent, io/colmap_model.h; an
+// empty `sparse` means `file`'s folder/sparse, where `varsfm run` writes it) gives the views,
+// and a PLY without its own visibility takes `file`.vis with that model's camera centres.
+SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
+                              const std::filesystem::path& sparse = {});
 
 }  // namespace varsfm

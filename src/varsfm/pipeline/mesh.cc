@@ -18,11 +18,12 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   OutputFolderLock output_lock(options.output);
   Timer timer;
-  const PointCloud cloud = ReadSurfaceInput(options.input, options.surface.method, options.sparse);
+  const SurfaceInput input =
+      ReadSurfaceInput(options.input, options.surface.method, options.sparse);
   MeshSummary result;
   TriangleMesh mesh;
   try {
-    mesh = ReconstructSurface(cloud, options.surface, &result.stats);
+    mesh = ReconstructSurface(input.cloud, options.surface, &result.stats, input.views);
   } catch (const Error& e) {
     Fail("{}: {}", options.input.string(), e.what());
   }

@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 #include <opencv2/imgproc.hpp>
 
-#include "varsfm/texture/rasterizer.h"
+#include "varsfm/geometry/rasterizer.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"

@@ -6,8 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "varsfm/geometry/rasterizer.h"
 #include "varsfm/texture/atlas_sample.h"
-#include "varsfm/texture/rasterizer.h"
 #include "varsfm/texture/ssim.h"
 #include "varsfm/util/error.h"
 

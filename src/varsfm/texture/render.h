@@ -1,6 +1,6 @@
 #pragma once
 // Rendering a textured mesh from a camera in software (no GPU), to compare with the photo taken
-// from it. Visibility by the z-buffer of rasterizer.h; at every covered pixel the pixel's
+// from it. Visibility by the z-buffer of geometry/rasterizer.h; at every covered pixel the pixel's
 // undistorted ray is intersected with its face (perspective-correct, exact under the camera's
 // radial distortion: ray = Camera::ImageToNormalized(pixel centre)); the texture coordinates are
 // interpolated with those barycentrics and the atlas sampled bilinearly.

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "varsfm/texture/rasterizer.h"
+#include "varsfm/geometry/rasterizer.h"
 
 namespace varsfm {
 

@@ -7,12 +7,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/geometry/rasterizer.h"
 #include "varsfm/texture/atlas.h"
 #include "varsfm/texture/atlas_fill.h"
 #include "varsfm/texture/chart_colour.h"
 #include "varsfm/texture/colour_levelling.h"
 #include "varsfm/texture/face_adjacency.h"
-#include "varsfm/texture/rasterizer.h"
 #include "varsfm/texture/texture_charts.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"

@@ -1,4 +1,4 @@
-#include "varsfm/texture/rasterizer.h"
+#include "varsfm/geometry/rasterizer.h"
 
 #include <algorithm>
 #include <cmath>

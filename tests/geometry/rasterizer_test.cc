@@ -2,7 +2,7 @@
 // once, and per-pixel barycentrics from rays are exact.
 #include <gtest/gtest.h>
 
-#include "varsfm/texture/rasterizer.h"
+#include "varsfm/geometry/rasterizer.h"
 
 namespace varsfm {
 namespace {
