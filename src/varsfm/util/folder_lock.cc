@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 
 namespace varsfm {
@@ -39,22 +40,25 @@ FolderLock::FolderLock(const std::filesystem::path& folder) {
     ++held.count;
     return;
   }
-  const int fd = ::open(key_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) {
-    const int error = errno;
-    HeldLocks().erase(key_);
-    Fail("cannot lock folder {}: {}", folder.string(), std::strerror(error));
-  }
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    const int error = errno;
+  int fd = ::open(key_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  const int error = fd < 0 ? errno : ::flock(fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
+  if (error == EWOULDBLOCK) {
     ::close(fd);
     HeldLocks().erase(key_);
-    if (error == EWOULDBLOCK)
-      Fail(
-          "{} is in use by another varsfm command, which writes there now: wait for it to end, or "
-          "give another folder",
-          folder.string());
-    Fail("cannot lock folder {}: {}", folder.string(), std::strerror(error));
+    Fail(
+        "{} is in use by another varsfm command, which writes there now: wait for it to end, or "
+        "give another folder",
+        folder.string());
+  }
+  if (error != 0) {
+    // A file system without locks (some network and FUSE mounts): the command still runs, as it
+    // did before the lock existed; only a second one at once goes unnoticed.
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+    warn(
+        "cannot lock folder {} ({}): another varsfm command writing there at once would not be "
+        "noticed",
+        folder.string(), std::strerror(error));
   }
   held = {fd, 1};
 }
@@ -63,7 +67,7 @@ FolderLock::~FolderLock() {
   const std::lock_guard<std::mutex> guard(held_mutex);
   auto it = HeldLocks().find(key_);
   if (it == HeldLocks().end() || --it->second.count > 0) return;
-  ::close(it->second.fd);  // releases the flock
+  if (it->second.fd >= 0) ::close(it->second.fd);  // releases the flock
   HeldLocks().erase(it);
 }
 

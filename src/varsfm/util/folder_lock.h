@@ -18,7 +18,8 @@ namespace varsfm {
 class FolderLock {
  public:
   // Locks `folder`, which must exist. Throws varsfm::Error when another process holds it
-  // ("... is in use by another varsfm command ...") or it cannot be opened.
+  // ("... is in use by another varsfm command ...") or the folder does not exist; where the file
+  // system cannot lock (or the folder cannot be opened), warns and goes on unlocked.
   explicit FolderLock(const std::filesystem::path& folder);
   ~FolderLock();
   FolderLock(const FolderLock&) = delete;
