@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
       variants.insert(variants.begin() + 1, kept);
     }
     // The true cameras judge the long faces (mesh/long_faces.h), as the sparse model's do.
-    std::vector<varsfm::SurfaceView> views;
+    std::vector<varsfm::PosedCamera> views;
     for (size_t k = 0; k < scene.poses.size(); ++k)
       views.push_back({scene.cameras[k], scene.poses[k]});
     varsfm::TriangleMesh last_mesh;

@@ -65,7 +65,7 @@ Scene PlaneWithHoleAndFlap(double patch_z = 5.0) {
 }
 
 // A camera at the origin looking down +z, seeing x and y in [-2.5, 2.5] at z = 5.
-SurfaceView FrontView() { return {Camera::FromFocal(400, 400, 400.0), Rigid3d()}; }
+PosedCamera FrontView() { return {Camera::FromFocal(400, 400, 400.0), Rigid3d()}; }
 
 LongFaceOptions Options() {
   LongFaceOptions options;
@@ -111,7 +111,7 @@ TEST(LongFaces, APatchFloatingInFrontOfTheSurfaceGoes) {
 // the image's edge cuts them) outvotes the view that sees them enclosed.
 TEST(LongFaces, OneViewSeeingTheFacesReachTheOpenRemovesThem) {
   Scene scene = PlaneWithHoleAndFlap();
-  SurfaceView zoomed = FrontView();
+  PosedCamera zoomed = FrontView();
   zoomed.camera = Camera::FromFocal(400, 400, 2400.0);  // sees x, y in [-0.42, 0.42] only
   const LongFaceStats stats = RemoveLongFaces(Options(), {FrontView(), zoomed}, &scene.mesh);
   EXPECT_EQ(stats.kept, 0u);

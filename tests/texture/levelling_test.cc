@@ -12,7 +12,7 @@ namespace {
 
 struct TwoExposures {
   TriangleMesh mesh = testing::PlaneMesh();
-  std::vector<TextureView> views = {testing::PlaneView({-0.9, 0, -2.5}, {0, 0, 0}),
+  std::vector<PosedCamera> views = {testing::PlaneView({-0.9, 0, -2.5}, {0, 0, 0}),
                                     testing::PlaneView({0.9, 0, -2.5}, {0, 0, 0})};
   std::vector<cv::Mat> photos = {testing::PhotographPlane(views[0], 1.0),
                                  testing::PhotographPlane(views[1], 0.6)};
@@ -21,7 +21,7 @@ struct TwoExposures {
 // The largest colour step between horizontally adjacent rendered pixels in the middle of the
 // plane (rows and columns well inside it), seen from straight in front.
 double LargestStep(const TexturedMesh& textured) {
-  const TextureView front = testing::PlaneView({0, 0, -2.5}, {0, 0, 0});
+  const PosedCamera front = testing::PlaneView({0, 0, -2.5}, {0, 0, 0});
   const Rendering r = RenderTexturedMesh(textured, front.camera, front.cam_from_world);
   double largest = 0;
   for (int y = 60; y < 140; ++y) {

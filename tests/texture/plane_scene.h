@@ -28,11 +28,11 @@ inline TriangleMesh PlaneMesh(double cell = 0.1) {
 
 // A 200 x 200 view from `centre` looking at `target`, its photo at `exposure` x the plane's
 // colour (black off the plane).
-inline TextureView PlaneView(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
+inline PosedCamera PlaneView(const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
   return {Camera::FromFocal(200, 200, 150), LookAt(centre, target)};
 }
 
-inline cv::Mat PhotographPlane(const TextureView& view, double exposure) {
+inline cv::Mat PhotographPlane(const PosedCamera& view, double exposure) {
   cv::Mat image(view.camera.height, view.camera.width, CV_8UC3, cv::Scalar::all(0));
   const Eigen::Matrix3d world_from_cam = view.cam_from_world.R().transpose();
   const Eigen::Vector3d centre = view.cam_from_world.Center();

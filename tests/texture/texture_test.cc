@@ -28,7 +28,7 @@ Textured TextureScene(double k1, int num_used) {
   o.supersampling = 1;
   Textured t;
   t.scene = RenderSyntheticScene(o);
-  std::vector<TextureView> views;
+  std::vector<PosedCamera> views;
   for (int i = 0; i < num_used; ++i) views.push_back({t.scene.cameras[i], t.scene.poses[i]});
   t.mesh = TextureMesh(
       testing::SyntheticSceneMesh(), views, [&](size_t v) { return t.scene.images[v]; }, {},
@@ -91,7 +91,7 @@ TEST(Texture, UnseenFacesKeepTheirVertexColour) {
   TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
   mesh.colors.assign(mesh.vertices.size(), Eigen::Matrix<uint8_t, 3, 1>(200, 40, 10));  // RGB
   // The only view looks away from the scene, so no face is textured from a photo.
-  const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
+  const PosedCamera away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
   TextureMappingStats stats;
   TextureMappingOptions options;
   options.min_mean_coverage = 0;  // the coverage check would stop it (next test)
@@ -116,7 +116,7 @@ TEST(Texture, AMeshThePhotosDoNotShowIsAnError) {
               {}, &stats);
   EXPECT_GT(stats.mean_coverage, 0.2);
   // A view looking away sees none of it: one line naming the coverage.
-  const TextureView away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
+  const PosedCamera away{scene.cameras[0], LookAt({0, 0, 0}, {0, 0, -5})};
   try {
     TextureMesh(mesh, {away}, load);
     ADD_FAILURE() << "no error for a mesh no photo shows";
@@ -129,7 +129,7 @@ TEST(Texture, AMeshThePhotosDoNotShowIsAnError) {
 TEST(Texture, EmptyMeshOrNoViewsIsAnError) {
   const TriangleMesh mesh = testing::SyntheticSceneMesh(0.5);
   const auto load = [](size_t) { return cv::Mat(); };
-  EXPECT_THROW(TextureMesh(TriangleMesh(), {TextureView{Camera::FromFocal(10, 10, 10), {}}}, load),
+  EXPECT_THROW(TextureMesh(TriangleMesh(), {PosedCamera{Camera::FromFocal(10, 10, 10), {}}}, load),
                Error);
   EXPECT_THROW(TextureMesh(mesh, {}, load), Error);
 }

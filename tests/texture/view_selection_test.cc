@@ -126,12 +126,12 @@ TEST(ExposureGain, RecoversTheRatioOfExposures) {
 // does not have.
 struct OccludedPlane {
   TriangleMesh mesh = testing::PlaneMesh();
-  std::vector<TextureView> views = {testing::PlaneView({-0.8, 0, -2.5}, {0, 0, 0}),
+  std::vector<PosedCamera> views = {testing::PlaneView({-0.8, 0, -2.5}, {0, 0, 0}),
                                     testing::PlaneView({0, 0, -2.0}, {0, 0, 0}),
                                     testing::PlaneView({0.8, 0, -2.5}, {0, 0, 0})};
   std::vector<cv::Mat> photos;
   OccludedPlane() {
-    for (const TextureView& v : views) photos.push_back(testing::PhotographPlane(v, 1.0));
+    for (const PosedCamera& v : views) photos.push_back(testing::PhotographPlane(v, 1.0));
     cv::circle(photos[1], cv::Point(100, 100), 25, cv::Scalar(0, 0, 255), cv::FILLED);
   }
   // Faces whose centroid is within `radius` of the origin.
@@ -186,11 +186,11 @@ TEST(ViewSelection, AnOccluderInOnePhotoIsRejected) {
 // the truth.
 TEST(ViewSelection, TheConsensusTermPrefersPhotosThatLookLikeTheOthers) {
   const TriangleMesh mesh = testing::PlaneMesh();
-  const std::vector<TextureView> views = {
+  const std::vector<PosedCamera> views = {
       testing::PlaneView({-0.8, 0, -2.5}, {0, 0, 0}), testing::PlaneView({0, 0, -2.0}, {0, 0, 0}),
       testing::PlaneView({0.8, 0, -2.5}, {0, 0, 0}), testing::PlaneView({0, 0.8, -2.5}, {0, 0, 0})};
   std::vector<cv::Mat> photos;
-  for (const TextureView& v : views) photos.push_back(testing::PhotographPlane(v, 1.0));
+  for (const PosedCamera& v : views) photos.push_back(testing::PhotographPlane(v, 1.0));
   const cv::Mat off_plane = photos[1] == 0;
   photos[1].convertTo(photos[1], -1, 0.5, 60);
   photos[1].setTo(cv::Scalar::all(0), off_plane);
@@ -208,7 +208,7 @@ TEST(ViewSelection, TheConsensusTermPrefersPhotosThatLookLikeTheOthers) {
   EXPECT_LT(2 * faces_of_hazy_view(consensus), plain_faces);
 
   // A view none of the photos was taken from, against the plane's true colours.
-  const TextureView novel = testing::PlaneView({0, -0.8, -2.5}, {0, 0, 0});
+  const PosedCamera novel = testing::PlaneView({0, -0.8, -2.5}, {0, 0, 0});
   const cv::Mat truth = testing::PhotographPlane(novel, 1.0);
   const auto mean_error = [&](const TextureMappingOptions& options) {
     const Rendering r = RenderTexturedMesh(TextureMesh(mesh, views, load, options), novel.camera,

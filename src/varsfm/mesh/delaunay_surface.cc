@@ -184,7 +184,7 @@ void DelaunaySurfaceOptions::Check() const {
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
                                         const DelaunaySurfaceOptions& options,
                                         DelaunaySurfaceStats* stats,
-                                        const std::vector<SurfaceView>& views) {
+                                        const std::vector<PosedCamera>& views) {
   if (!cloud.HasVisibility())
     Fail(
         "the Delaunay surface needs the points' visibility (the cameras that saw each point); "

@@ -71,6 +71,6 @@ struct DelaunaySurfaceStats {
 TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
                                         const DelaunaySurfaceOptions& options,
                                         DelaunaySurfaceStats* stats = nullptr,
-                                        const std::vector<SurfaceView>& views = {});
+                                        const std::vector<PosedCamera>& views = {});
 
 }  // namespace varsfm

@@ -39,7 +39,7 @@ struct ViewVerdict {
 // nearest face is long, each judged by the pixels around it (8-neighbours): enclosed when none
 // is outside the image and enough show a kept face no farther than max_depth_ratio x the
 // region's pixel beside them.
-ViewVerdict JudgeView(const LongFaceOptions& options, const SurfaceView& view,
+ViewVerdict JudgeView(const LongFaceOptions& options, const PosedCamera& view,
                       const std::vector<bool>& is_long, const TriangleMesh& mesh) {
   const Camera& camera = view.camera;
   const double scale = std::min(
@@ -119,7 +119,7 @@ void LongFaceOptions::Check() const {
   CheckFraction("long-face enclosed fraction", min_enclosed_fraction);
 }
 
-LongFaceStats RemoveLongFaces(const LongFaceOptions& options, const std::vector<SurfaceView>& views,
+LongFaceStats RemoveLongFaces(const LongFaceOptions& options, const std::vector<PosedCamera>& views,
                               TriangleMesh* mesh) {
   LongFaceStats stats;
   if (options.max_edge_factor <= 0 || mesh->faces.empty()) return stats;

@@ -15,17 +15,10 @@
 #include <cstddef>
 #include <vector>
 
-#include "varsfm/camera/camera.h"
-#include "varsfm/geometry/rigid3.h"
+#include "varsfm/geometry/posed_camera.h"
 #include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
-
-// A registered camera the surface is judged from.
-struct SurfaceView {
-  Camera camera;
-  Rigid3d cam_from_world;
-};
 
 struct LongFaceOptions {
   // Faces with an edge longer than this many times the surface's median edge length are long
@@ -56,7 +49,7 @@ struct LongFaceStats {
 
 // Removes the long faces but those `views` see in enclosed holes. Deterministic for any thread
 // count (parallel over views).
-LongFaceStats RemoveLongFaces(const LongFaceOptions& options, const std::vector<SurfaceView>& views,
+LongFaceStats RemoveLongFaces(const LongFaceOptions& options, const std::vector<PosedCamera>& views,
                               TriangleMesh* mesh);
 
 }  // namespace varsfm

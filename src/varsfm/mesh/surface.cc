@@ -94,7 +94,7 @@ void SurfaceOptions::Check() const {
 }
 
 TriangleMesh ReconstructSurface(const PointCloud& input, const SurfaceOptions& options,
-                                SurfaceStats* stats, const std::vector<SurfaceView>& views) {
+                                SurfaceStats* stats, const std::vector<PosedCamera>& views) {
   if (input.points.size() < 10) {
     Fail("{} points are too few for a surface (need at least 10)", input.points.size());
   }

@@ -85,7 +85,7 @@ struct SurfaceStats {
 // `views`: the registered cameras, which judge the Delaunay surface's long faces (long_faces.h).
 TriangleMesh ReconstructSurface(const PointCloud& cloud, const SurfaceOptions& options,
                                 SurfaceStats* stats = nullptr,
-                                const std::vector<SurfaceView>& views = {});
+                                const std::vector<PosedCamera>& views = {});
 
 // The names the command line takes (`--method`, `--surface`), the default first.
 inline constexpr EnumName<SurfaceMethod> kSurfaceMethodNames[] = {

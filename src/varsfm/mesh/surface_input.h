@@ -25,7 +25,7 @@ struct SurfaceInput {
   PointCloud cloud;
   // Delaunay: the registered cameras of the model, which judge the long faces (long_faces.h);
   // empty for the other methods, and for a cloud with its own visibility and no model beside it.
-  std::vector<SurfaceView> views;
+  std::vector<PosedCamera> views;
 };
 
 // Reads `file`. Throws varsfm::Error (one line naming the file) when it is missing, unreadable or

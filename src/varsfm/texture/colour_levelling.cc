@@ -14,7 +14,7 @@ namespace varsfm {
 namespace {
 
 // Image `view`'s colour (after its gain) where world point x projects; false when behind it.
-bool ColourAt(const TextureView& view, const cv::Mat& small, double scale,
+bool ColourAt(const PosedCamera& view, const cv::Mat& small, double scale,
               const Eigen::Vector3f& gain, const Eigen::Vector3d& x, Eigen::Vector3f* colour) {
   const Eigen::Vector3d in_camera = view.cam_from_world * x;
   if (in_camera.z() <= 0) return false;
@@ -31,7 +31,7 @@ struct SeamSample {
 
 std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
     const std::vector<Eigen::Vector3d>& vertices, const std::vector<Eigen::Vector3i>& faces,
-    const std::vector<int>& labels, const std::vector<TextureView>& views,
+    const std::vector<int>& labels, const std::vector<PosedCamera>& views,
     const std::vector<cv::Mat>& small_photos, const std::vector<double>& small_scale,
     const std::vector<Eigen::Vector3f>& gains, const ColourLevellingOptions& options) {
   std::vector<std::array<Eigen::Vector3f, 3>> corrections(
@@ -67,7 +67,7 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
       const int edge_labels[2] = {labels[f], labels[g]};
       const Eigen::Vector3d pa = vertices[a], pb = vertices[b];
       // As many samples as the edge covers pixels of the small photo (at least 2).
-      const TextureView& first = views[edge_labels[0]];
+      const PosedCamera& first = views[edge_labels[0]];
       const double length_px = (first.camera.Project(first.cam_from_world * pa) -
                                 first.camera.Project(first.cam_from_world * pb))
                                    .norm() *

@@ -40,7 +40,7 @@ struct ColourLevellingOptions {
 // that image's gain; zero for unlabelled faces and when disabled.
 std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
     const std::vector<Eigen::Vector3d>& vertices, const std::vector<Eigen::Vector3i>& faces,
-    const std::vector<int>& labels, const std::vector<TextureView>& views,
+    const std::vector<int>& labels, const std::vector<PosedCamera>& views,
     const std::vector<cv::Mat>& small_photos, const std::vector<double>& small_scale,
     const std::vector<Eigen::Vector3f>& gains, const ColourLevellingOptions& options = {});
 

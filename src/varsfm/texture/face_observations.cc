@@ -45,7 +45,7 @@ RasterSums SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv
 
 // Fills view v's quality and colour of every face (stride 1) and its coverage.
 void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
-                 const std::vector<Eigen::Vector3i>& faces, const TextureView& view,
+                 const std::vector<Eigen::Vector3i>& faces, const PosedCamera& view,
                  const cv::Mat& photo, const FaceObservationOptions& options, float* quality,
                  Eigen::Vector3f* colour, double* coverage, cv::Mat* small_out, double* scale_out) {
   const Camera& camera = view.camera;
@@ -167,7 +167,7 @@ Eigen::Vector3f SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& p) {
 
 FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
                               const std::vector<Eigen::Vector3i>& faces,
-                              const std::vector<TextureView>& views,
+                              const std::vector<PosedCamera>& views,
                               const std::function<cv::Mat(size_t)>& load_image,
                               const FaceObservationOptions& options) {
   FaceObservations obs;

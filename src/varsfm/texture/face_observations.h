@@ -11,15 +11,9 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "varsfm/camera/camera.h"
-#include "varsfm/geometry/rigid3.h"
+#include "varsfm/geometry/posed_camera.h"
 
 namespace varsfm {
-
-struct TextureView {
-  Camera camera;
-  Rigid3d cam_from_world;
-};
 
 struct FaceObservationOptions {
   // Visibility rasters and the photos' small copies are at most this many pixels on their
@@ -68,7 +62,7 @@ struct FaceObservations {
 // for a photo of another size.
 FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
                               const std::vector<Eigen::Vector3i>& faces,
-                              const std::vector<TextureView>& views,
+                              const std::vector<PosedCamera>& views,
                               const std::function<cv::Mat(size_t)>& load_image,
                               const FaceObservationOptions& options = {});
 

@@ -5,9 +5,9 @@
 
 namespace varsfm {
 
-std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
+std::vector<PosedCamera> RegisteredViews(const Reconstruction& reconstruction,
                                          std::vector<image_t>* image_ids) {
-  std::vector<TextureView> views;
+  std::vector<PosedCamera> views;
   image_ids->clear();
   for (const image_t id : reconstruction.RegisteredImageIds()) {
     views.push_back({reconstruction.CameraOf(id), reconstruction.image(id).cam_from_world});
@@ -20,7 +20,7 @@ TexturedMesh TextureFromModel(const TriangleMesh& mesh, const Reconstruction& re
                               const std::filesystem::path& image_dir,
                               const TextureMappingOptions& options, TextureMappingStats* stats) {
   std::vector<image_t> ids;
-  const std::vector<TextureView> views = RegisteredViews(reconstruction, &ids);
+  const std::vector<PosedCamera> views = RegisteredViews(reconstruction, &ids);
   if (views.empty()) Fail("texture: the sparse model has no registered images to texture from");
   return TextureMesh(
       mesh, views, [&](size_t v) { return ReadModelPhoto(reconstruction, ids[v], image_dir); },

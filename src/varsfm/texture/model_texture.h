@@ -14,7 +14,7 @@
 namespace varsfm {
 
 // The registered images of a model as texture views, in image-id order (ids in `image_ids`).
-std::vector<TextureView> RegisteredViews(const Reconstruction& reconstruction,
+std::vector<PosedCamera> RegisteredViews(const Reconstruction& reconstruction,
                                          std::vector<image_t>* image_ids);
 
 // Throws varsfm::Error (one line) for a model without registered images, an empty mesh, or a

@@ -147,7 +147,7 @@ void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement&
 
 }  // namespace
 
-TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
+TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera>& views,
                          const std::function<cv::Mat(size_t)>& load_image,
                          const TextureMappingOptions& options, TextureMappingStats* stats) {
   if (mesh.faces.empty() || mesh.vertices.empty()) Fail("texture: the mesh has no faces");
@@ -182,7 +182,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView
   // Vertex pixels in every view that textures a chart (full resolution, with distortion).
   std::vector<std::vector<ProjectedVertex>> projected(views.size());
   std::vector<cv::Size> photo_sizes;
-  for (const TextureView& view : views)
+  for (const PosedCamera& view : views)
     photo_sizes.emplace_back(view.camera.width, view.camera.height);
   for (const Chart& chart : charts) {
     if (projected[chart.view].empty())

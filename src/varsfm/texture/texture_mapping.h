@@ -62,7 +62,7 @@ struct TextureMappingStats {
 // `load_image(v)` returns view v's photo (BGR, 8-bit, the camera's size). Throws varsfm::Error
 // for an empty mesh, no views, a mesh covering less than min_mean_coverage of the photos, or a
 // photo whose size differs from its camera.
-TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<TextureView>& views,
+TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera>& views,
                          const std::function<cv::Mat(size_t)>& load_image,
                          const TextureMappingOptions& options = {},
                          TextureMappingStats* stats = nullptr);

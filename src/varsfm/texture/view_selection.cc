@@ -11,7 +11,7 @@ namespace varsfm {
 
 ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<Eigen::Vector3i>& faces,
-                          const std::vector<TextureView>& views,
+                          const std::vector<PosedCamera>& views,
                           const std::function<cv::Mat(size_t)>& load_image,
                           const ViewSelectionOptions& options) {
   FaceObservations obs = ObserveFaces(vertices, faces, views, load_image, options.observation);

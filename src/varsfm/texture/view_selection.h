@@ -61,7 +61,7 @@ struct ViewSelection {
 // several threads at once. Throws varsfm::Error for a photo of another size.
 ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
                           const std::vector<Eigen::Vector3i>& faces,
-                          const std::vector<TextureView>& views,
+                          const std::vector<PosedCamera>& views,
                           const std::function<cv::Mat(size_t)>& load_image,
                           const ViewSelectionOptions& options = {});
 
