@@ -45,6 +45,11 @@ namespace {
 constexpr const char* kMaxFeaturesHelp =
     "strongest keypoint locations kept (a location with two orientations gives two features)";
 
+// texture's and run's.
+constexpr const char* kTextureMaxImageSizeHelp =
+    "photos larger than this (longer side, px) are textured from a copy of this size, which "
+    "bounds the atlas and the glb (0: full resolution)";
+
 constexpr int kUsageError = 2;
 
 // The names an option takes for the values of an enum.
@@ -383,6 +388,8 @@ void AddRunCommand(CLI::App* app) {
             "front");
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
                  "mesh stage: decimate to at most this many faces (0: keep all)");
+  AddWithDefault(cmd, "--texture-max-image-size", options->texture.max_image_size,
+                 std::string("texture stage: ") + kTextureMaxImageSizeHelp);
   AddMapperOptions(cmd, &options->map);
   cmd->get_option("--seed")->description(
       "random seed of every stage (matching, mapping, multi-view stereo)");
@@ -506,6 +513,7 @@ void AddTextureCommand(CLI::App* app) {
   cmd->add_flag("!--no-exposure-gain", t.selection.exposure.enabled, "no per-photo exposure gains");
   cmd->add_flag("!--no-levelling", t.levelling.enabled, "no colour levelling across seams");
   AddWithDefault(cmd, "--padding", t.padding, "photo pixels kept around each chart (0 to 64)");
+  AddWithDefault(cmd, "--max-image-size", t.max_image_size, kTextureMaxImageSizeHelp);
   AddHoldoutOption(cmd, &options->holdout);
   AddWithDefault(cmd, "--threads", t.selection.observation.num_threads, "threads (0: all cores)");
   cmd->callback([options] { varsfm::RunTexture(*options); });

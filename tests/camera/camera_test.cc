@@ -35,6 +35,22 @@ TEST(Camera, ProjectionWithoutDistortionIsKTimesNormalised) {
   EXPECT_TRUE(c.Project(X).isApprox(x.hnormalized(), 1e-12));
 }
 
+// A point projects into the resized image at the scaled pixel (pixel-corner origin), distortion
+// included, with a different factor across and down.
+TEST(Camera, ResizedProjectsAtTheScaledPixel) {
+  const Camera c = TestCamera();
+  const Camera r = c.Resized(c.width / 4, c.height / 2);
+  EXPECT_EQ(r.width, c.width / 4);
+  EXPECT_EQ(r.height, c.height / 2);
+  const double sx = static_cast<double>(r.width) / c.width;
+  const double sy = static_cast<double>(r.height) / c.height;
+  for (const Eigen::Vector3d& X : {Eigen::Vector3d(0.3, -0.2, 2.5), Eigen::Vector3d(-1, 0.5, 4)}) {
+    const Eigen::Vector2d p = c.Project(X), q = r.Project(X);
+    EXPECT_NEAR(q.x(), sx * p.x(), 1e-9);
+    EXPECT_NEAR(q.y(), sy * p.y(), 1e-9);
+  }
+}
+
 TEST(Camera, UnprojectInvertsProjectWithDistortion) {
   const Camera c = TestCamera();
   for (double x = -0.5; x <= 0.5; x += 0.1) {

@@ -18,7 +18,7 @@ struct Textured {
 };
 
 // Textures the scene mesh from the first `num_used` of the rendered images.
-Textured TextureScene(double k1, int num_used) {
+Textured TextureScene(double k1, int num_used, const TextureMappingOptions& options = {}) {
   RenderedSceneOptions o;
   o.num_images = 6;
   o.width = 400;
@@ -31,7 +31,7 @@ Textured TextureScene(double k1, int num_used) {
   std::vector<PosedCamera> views;
   for (int i = 0; i < num_used; ++i) views.push_back({t.scene.cameras[i], t.scene.poses[i]});
   t.mesh = TextureMesh(
-      testing::SyntheticSceneMesh(), views, [&](size_t v) { return t.scene.images[v]; }, {},
+      testing::SyntheticSceneMesh(), views, [&](size_t v) { return t.scene.images[v]; }, options,
       &t.stats);
   return t;
 }
@@ -55,6 +55,25 @@ TEST(Texture, RenderingMatchesThePhotosItWasTexturedFrom) {
     EXPECT_GT(s.coverage, 0.85) << image;
     EXPECT_GT(s.psnr_db, 25.0) << image;
   }
+}
+
+// From copies of half the photos' size: a quarter of the atlas, and the rendering at full size
+// still close to the photos (a little softer).
+TEST(Texture, MaxImageSizeTexturesFromSmallerCopies) {
+  const Textured full = TextureScene(0.1, 6);
+  TextureMappingOptions options;
+  options.max_image_size = 200;  // the photos are 400 x 300
+  const Textured half = TextureScene(0.1, 6, options);
+  EXPECT_LT(half.stats.atlas_pixels, full.stats.atlas_pixels / 3);
+  // Faces at the edge of visibility are judged on the smaller copies: measured 7879 of 7949.
+  EXPECT_GT(half.stats.num_textured_faces, 0.97 * full.stats.num_textured_faces);
+  for (const int image : {0, 3}) {
+    const PhotometricScore s = RenderAndCompare(half, image);
+    EXPECT_GT(s.coverage, 0.85) << image;
+    EXPECT_GT(s.psnr_db, 22.0) << image;
+  }
+  options.max_image_size = 10;
+  EXPECT_ANY_THROW(options.Check());
 }
 
 TEST(Texture, HeldOutViewIsClose) {

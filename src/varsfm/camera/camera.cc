@@ -12,6 +12,20 @@ Camera Camera::FromFocal(int width, int height, double focal) {
   return camera;
 }
 
+Camera Camera::Resized(int new_width, int new_height) const {
+  const double sx = static_cast<double>(new_width) / width;
+  const double sy = static_cast<double>(new_height) / height;
+  Camera resized = *this;
+  resized.width = new_width;
+  resized.height = new_height;
+  resized.params[kFocal] *= sx;
+  resized.params[kAspect] *= sy / sx;
+  resized.params[kSkew] *= sx;
+  resized.params[kU0] *= sx;
+  resized.params[kV0] *= sy;
+  return resized;
+}
+
 Eigen::Matrix3d Camera::K() const {
   Eigen::Matrix3d K;
   K << params[kFocal], params[kSkew], params[kU0], 0, fy(), params[kV0], 0, 0, 1;

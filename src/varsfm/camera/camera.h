@@ -26,6 +26,11 @@ struct Camera {
   double focal() const { return params[kFocal]; }
   double fy() const { return params[kAspect] * params[kFocal]; }
 
+  // The camera of the image resized to new_width x new_height: with the pixel-corner origin,
+  // scaling pixel coordinates is exact (x' = sx x, y' = sy y); distortion, in normalised
+  // coordinates, is unchanged.
+  Camera Resized(int new_width, int new_height) const;
+
   Eigen::Matrix3d K() const;
   void SetK(const Eigen::Matrix3d& K);  // K(2,2) must be 1; distortion untouched
 

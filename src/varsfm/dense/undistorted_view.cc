@@ -15,14 +15,10 @@ UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, doubl
   const int width = std::max(1, static_cast<int>(std::lround(image.cols * scale)));
   const int height = std::max(1, static_cast<int>(std::lround(image.rows * scale)));
   const double sx = static_cast<double>(width) / image.cols;
-  const double sy = static_cast<double>(height) / image.rows;
-  // With the pixel-corner origin, scaling pixel coordinates is exact: x' = s x.
-  Camera scaled = camera;
-  scaled.params[Camera::kFocal] *= sx;
-  scaled.params[Camera::kAspect] *= sy / sx;
-  scaled.params[Camera::kSkew] *= sx;
-  scaled.params[Camera::kU0] *= sx;
-  scaled.params[Camera::kV0] *= sy;
+  Camera sized = camera;  // the image's own size: the camera may be given for another
+  sized.width = image.cols;
+  sized.height = image.rows;
+  const Camera scaled = sized.Resized(width, height);
   cv::Mat source = image;
   if (width != image.cols || height != image.rows)
     cv::resize(image, source, cv::Size(width, height), 0, 0, cv::INTER_AREA);

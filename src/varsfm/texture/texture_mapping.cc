@@ -145,13 +145,38 @@ void CopyChart(const cv::Mat& photo, const ChartTexels& t, const AtlasPlacement&
   }
 }
 
+// The views with the cameras of their photos' copies at most max_size on the longer side (0:
+// as they are).
+std::vector<PosedCamera> CappedViews(const std::vector<PosedCamera>& views, int max_size) {
+  std::vector<PosedCamera> capped = views;
+  if (max_size <= 0) return capped;
+  for (PosedCamera& view : capped) {
+    const Camera& camera = view.camera;
+    const int longer = std::max(camera.width, camera.height);
+    if (longer <= max_size) continue;
+    const double scale = static_cast<double>(max_size) / longer;
+    view.camera = camera.Resized(std::max(1, static_cast<int>(std::lround(camera.width * scale))),
+                                 std::max(1, static_cast<int>(std::lround(camera.height * scale))));
+  }
+  return capped;
+}
+
 }  // namespace
 
-TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera>& views,
-                         const std::function<cv::Mat(size_t)>& load_image,
+TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera>& full_views,
+                         const std::function<cv::Mat(size_t)>& load_full_image,
                          const TextureMappingOptions& options, TextureMappingStats* stats) {
   if (mesh.faces.empty() || mesh.vertices.empty()) Fail("texture: the mesh has no faces");
-  if (views.empty()) Fail("texture: no registered images to texture from");
+  if (full_views.empty()) Fail("texture: no registered images to texture from");
+  const std::vector<PosedCamera> views = CappedViews(full_views, options.max_image_size);
+  const auto load_image = [&](size_t v) {
+    const cv::Mat photo = load_full_image(v);
+    const cv::Size size(views[v].camera.width, views[v].camera.height);
+    if (photo.empty() || photo.size() == size) return photo;
+    cv::Mat resized;
+    cv::resize(photo, resized, size, 0, 0, cv::INTER_AREA);
+    return resized;
+  };
   TextureMappingStats local;
   TextureMappingStats& st = stats ? *stats : local;
   st = {};
@@ -260,6 +285,7 @@ void TextureMappingOptions::Check() const {
   CheckNonNegative("bleed_rings", bleed_rings);
   CheckAtLeast("chart_tile", chart_tile, 8);
   CheckAtLeast("max_page_size", max_page_size, 64);
+  if (max_image_size != 0) CheckAtLeast("--texture-max-image-size", max_image_size, 64);
   CheckFraction("min_mean_coverage", min_mean_coverage);
 }
 

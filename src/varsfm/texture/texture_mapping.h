@@ -35,6 +35,9 @@ struct TextureMappingOptions {
   // long or ring-shaped charts pack densely; smaller squares add gutter texels along the cuts.
   int chart_tile = 256;
   int max_page_size = 8192;
+  // Photos larger than this (longer side, px) are textured from a copy of this size, which
+  // bounds the atlas and the glb of a model from high-resolution photos; 0: full resolution.
+  int max_image_size = 0;
   cv::Vec3b unseen_color = {128, 128, 128};  // BGR, for unseen faces of a mesh without colours
   // Texturing fails when the mesh covers less than this fraction of the photos' pixels on
   // average: such a mesh is not the surface the photos show (a collapsed or misplaced mesh),
