@@ -1,6 +1,7 @@
 #include "varsfm/pipeline/extract.h"
 
 #include <algorithm>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,10 +21,10 @@
 #include "varsfm/pipeline/video_frames.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/file_fingerprint.h"
-#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -417,9 +418,12 @@ ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) 
   if (!first_image) Fail("no readable image in {}", input.dir.string());
 
   if (!options.workspace.parent_path().empty()) CreateFolder(options.workspace.parent_path());
-  const FolderLock lock(WorkspaceFolder(options.workspace));
   std::error_code ec;
   const bool created = !fs::exists(options.workspace, ec);
+  // A new workspace is created empty (SQLite takes an empty file for a new database) so that it
+  // can be locked before it is written; a failure below removes it as any new workspace.
+  if (created) std::ofstream(options.workspace, std::ios::binary | std::ios::app);
+  const PathLock lock(options.workspace);
   try {
     Database db(options.workspace);
     WriteFeatures(db, options, input, first_index, std::move(first_image), unusable, summary,

@@ -16,10 +16,10 @@
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -234,7 +234,10 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
     Fail("image folder {} does not exist", options.image_dir.string());
   CheckOutputFolderIsOurs(options.output);
   if (!options.image_dir.empty()) CheckOutputOutsideImages(options.output, options.image_dir);
-  const FolderLock workspace_lock(WorkspaceFolder(options.workspace));
+  // The workspace is only read: other maps of it may run at once, a match into it may not.
+  std::optional<PathLock> workspace_lock;
+  if (std::filesystem::is_regular_file(options.workspace))
+    workspace_lock.emplace(options.workspace, LockMode::kShared);
   OutputFolderLock output_lock(options.output);
   Timer total;
   LoadedWorkspace ws = LoadWorkspace(options);

@@ -18,9 +18,9 @@
 #include "varsfm/matching/pair_selection.h"
 #include "varsfm/pipeline/retrieval_neighbors.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/folder_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -310,7 +310,7 @@ MatchSummary RunMatching(const MatchOptions& options, OptionsCheck check) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                     options.num_threads);
   }
-  const FolderLock lock(WorkspaceFolder(options.workspace));
+  const PathLock lock(options.workspace);
   Timer timer;
   Database db(options.workspace);
   const std::vector<DbImage> images = ImagesWithFeatures(db);

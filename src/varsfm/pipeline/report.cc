@@ -1,6 +1,6 @@
 #include "varsfm/pipeline/report.h"
 
-#include "varsfm/util/folder_lock.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/timer.h"
 

@@ -1,4 +1,4 @@
-#include "varsfm/util/folder_lock.h"
+#include "varsfm/util/path_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -17,7 +17,7 @@
 namespace varsfm {
 namespace {
 
-// The folders this process holds: descriptor and how many FolderLocks share it.
+// The paths this process holds: descriptor and how many PathLocks share it.
 struct HeldLock {
   int fd = -1;
   int count = 0;
@@ -30,25 +30,25 @@ std::map<std::string, HeldLock>& HeldLocks() {
 
 }  // namespace
 
-FolderLock::FolderLock(const std::filesystem::path& folder) {
+PathLock::PathLock(const std::filesystem::path& path, LockMode mode) {
   std::error_code ec;
-  key_ = std::filesystem::canonical(folder, ec).string();
-  if (ec) Fail("cannot lock folder {}: {}", folder.string(), ec.message());
+  key_ = std::filesystem::canonical(path, ec).string();
+  if (ec) Fail("cannot lock {}: {}", path.string(), ec.message());
+  const bool folder = std::filesystem::is_directory(key_, ec);
   const std::lock_guard<std::mutex> guard(held_mutex);
   HeldLock& held = HeldLocks()[key_];
-  if (held.count > 0) {
+  if (held.count > 0) {  // this process holds it already (run, and the stage it calls)
     ++held.count;
     return;
   }
-  int fd = ::open(key_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  const int error = fd < 0 ? errno : ::flock(fd, LOCK_EX | LOCK_NB) != 0 ? errno : 0;
+  int fd = ::open(key_.c_str(), O_RDONLY | O_CLOEXEC | (folder ? O_DIRECTORY : 0));
+  const int operation = (mode == LockMode::kShared ? LOCK_SH : LOCK_EX) | LOCK_NB;
+  const int error = fd < 0 ? errno : ::flock(fd, operation) != 0 ? errno : 0;
   if (error == EWOULDBLOCK) {
     ::close(fd);
     HeldLocks().erase(key_);
-    Fail(
-        "{} is in use by another varsfm command, which writes there now: wait for it to end, or "
-        "give another folder",
-        folder.string());
+    Fail("{} is in use by another varsfm command: wait for it to end, or give another {}",
+         path.string(), folder ? "folder" : "workspace");
   }
   if (error != 0) {
     // A file system without locks (some network and FUSE mounts): the command still runs, as it
@@ -56,14 +56,14 @@ FolderLock::FolderLock(const std::filesystem::path& folder) {
     if (fd >= 0) ::close(fd);
     fd = -1;
     warn(
-        "cannot lock folder {} ({}): another varsfm command writing there at once would not be "
+        "cannot lock {} ({}): another varsfm command writing there at once would not be "
         "noticed",
-        folder.string(), std::strerror(error));
+        path.string(), std::strerror(error));
   }
   held = {fd, 1};
 }
 
-FolderLock::~FolderLock() {
+PathLock::~PathLock() {
   const std::lock_guard<std::mutex> guard(held_mutex);
   auto it = HeldLocks().find(key_);
   if (it == HeldLocks().end() || --it->second.count > 0) return;
@@ -79,11 +79,6 @@ OutputFolderLock::OutputFolderLock(std::filesystem::path output) : output_(std::
 void OutputFolderLock::CreateAndLock() {
   CreateFolder(output_);
   if (!lock_) lock_.emplace(output_);
-}
-
-std::filesystem::path WorkspaceFolder(const std::filesystem::path& workspace) {
-  const std::filesystem::path parent = workspace.parent_path();
-  return parent.empty() ? std::filesystem::path(".") : parent;
 }
 
 }  // namespace varsfm
