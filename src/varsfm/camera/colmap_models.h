@@ -26,7 +26,7 @@ inline constexpr int kColmapRadial = 3;
 inline constexpr int kColmapOpenCV = 4;
 inline constexpr int kColmapFullOpenCV = 6;
 
-std::string ColmapModelName(int model_id);   // "" for unknown ids
+std::string ColmapModelName(int model_id);           // "" for unknown ids
 int ColmapModelIdFromName(const std::string& name);  // -1 for unknown names
 
 // The simplest COLMAP model that represents the camera exactly (up to skew).

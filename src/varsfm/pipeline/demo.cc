@@ -5,9 +5,9 @@
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {

@@ -12,9 +12,9 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {

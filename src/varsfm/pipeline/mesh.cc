@@ -6,8 +6,8 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {

@@ -1,7 +1,7 @@
 #include "varsfm/pipeline/report.h"
 
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {

@@ -11,8 +11,8 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {

@@ -9,8 +9,8 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/util/error.h"
-#include "varsfm/util/path_lock.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
