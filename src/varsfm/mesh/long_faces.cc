@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -30,17 +31,20 @@ std::vector<bool> FindLongFaces(double factor, const TriangleMesh& mesh) {
   return is_long;
 }
 
-// What one view says of the long faces it sees: seen in an enclosed hole, or reaching the open.
-struct ViewVerdict {
-  std::vector<uint8_t> enclosed, open;
+// What the views say of the long faces: seen in an enclosed hole by some view, seen reaching
+// the open by some view. Flags that views set in any order (a union: deterministic), one byte a
+// face whatever the number of views.
+struct Verdicts {
+  explicit Verdicts(size_t faces) : enclosed(faces), open(faces) {}
+  std::vector<std::atomic<uint8_t>> enclosed, open;
 };
 
 // The connected regions (4-neighbours, no step in depth above max_depth_ratio) of pixels whose
 // nearest face is long, each judged by the pixels around it (8-neighbours): enclosed when none
 // is outside the image and enough show a kept face no farther than max_depth_ratio x the
 // region's pixel beside them.
-ViewVerdict JudgeView(const LongFaceOptions& options, const PosedCamera& view,
-                      const std::vector<bool>& is_long, const TriangleMesh& mesh) {
+void JudgeView(const LongFaceOptions& options, const PosedCamera& view,
+               const std::vector<bool>& is_long, const TriangleMesh& mesh, Verdicts* verdicts) {
   const Camera& camera = view.camera;
   const double scale = std::min(
       1.0, options.raster_size / static_cast<double>(std::max(camera.width, camera.height)));
@@ -58,8 +62,6 @@ ViewVerdict JudgeView(const LongFaceOptions& options, const PosedCamera& view,
     return dq > options.max_depth_ratio * dp || dp > options.max_depth_ratio * dq;
   };
 
-  ViewVerdict verdict{std::vector<uint8_t>(mesh.faces.size()),
-                      std::vector<uint8_t>(mesh.faces.size())};
   std::vector<int32_t> region(raster.face.size(), -1);
   std::vector<size_t> stack, pixels;
   int32_t regions = 0;
@@ -104,10 +106,9 @@ ViewVerdict JudgeView(const LongFaceOptions& options, const PosedCamera& view,
     }
     const bool enclosed =
         !reaches_edge && around > 0 && enclosing >= options.min_enclosed_fraction * around;
-    std::vector<uint8_t>& mark = enclosed ? verdict.enclosed : verdict.open;
-    for (const size_t p : pixels) mark[raster.face[p]] = 1;
+    std::vector<std::atomic<uint8_t>>& mark = enclosed ? verdicts->enclosed : verdicts->open;
+    for (const size_t p : pixels) mark[raster.face[p]].store(1, std::memory_order_relaxed);
   }
-  return verdict;
 }
 
 }  // namespace
@@ -129,19 +130,13 @@ LongFaceStats RemoveLongFaces(const LongFaceOptions& options, const std::vector<
 
   std::vector<bool> keep(is_long.size(), false);
   if (options.keep_enclosed && !views.empty()) {
-    std::vector<ViewVerdict> verdicts(views.size());
-    tbb::parallel_for(size_t{0}, views.size(), [&](size_t v) {
-      verdicts[v] = JudgeView(options, views[v], is_long, *mesh);
-    });
+    Verdicts verdicts(is_long.size());
+    tbb::parallel_for(size_t{0}, views.size(),
+                      [&](size_t v) { JudgeView(options, views[v], is_long, *mesh, &verdicts); });
     // Kept: enclosed in some view, and open in none (a membrane a view happens to see framed,
     // e.g. the sky through an arch, reaches the open in another).
-    std::vector<bool> open(is_long.size(), false);
-    for (const ViewVerdict& verdict : verdicts)
-      for (size_t f = 0; f < is_long.size(); ++f) {
-        keep[f] = keep[f] || verdict.enclosed[f];
-        open[f] = open[f] || verdict.open[f];
-      }
-    for (size_t f = 0; f < is_long.size(); ++f) keep[f] = keep[f] && !open[f];
+    for (size_t f = 0; f < is_long.size(); ++f)
+      keep[f] = verdicts.enclosed[f].load() && !verdicts.open[f].load();
   }
   size_t kept = 0;
   for (size_t f = 0; f < is_long.size(); ++f) {
