@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/camera/image_size.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -49,6 +50,22 @@ TEST(Camera, ResizedProjectsAtTheScaledPixel) {
     EXPECT_NEAR(q.x(), sx * p.x(), 1e-9);
     EXPECT_NEAR(q.y(), sy * p.y(), 1e-9);
   }
+}
+
+TEST(SizeWithin, CapsTheLongerSideAndNeverEnlarges) {
+  const Camera landscape = Camera::FromFocal(4000, 3000, 3000.0);
+  const ScaledSize small = SizeWithin(landscape, 1000);
+  EXPECT_DOUBLE_EQ(small.scale, 0.25);
+  EXPECT_EQ(small.width, 1000);
+  EXPECT_EQ(small.height, 750);
+  const ScaledSize portrait = SizeWithin(Camera::FromFocal(3000, 4001, 3000.0), 800);
+  EXPECT_EQ(portrait.height, 800);
+  EXPECT_EQ(portrait.width, 600);  // 3000 x 800 / 4001 = 599.85, rounded
+  const ScaledSize as_is = SizeWithin(landscape, 5000);
+  EXPECT_EQ(as_is.scale, 1.0);
+  EXPECT_EQ(as_is.width, 4000);
+  EXPECT_EQ(as_is.height, 3000);
+  EXPECT_EQ(SizeWithin(Camera::FromFocal(1000, 2, 1000.0), 10).height, 1);  // at least a pixel
 }
 
 TEST(Camera, UnprojectInvertsProjectWithDistortion) {

@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/camera/image_size.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -50,9 +51,7 @@ UndistortedView UndistortImage(const cv::Mat& image, const Camera& camera, doubl
 
 UndistortedView UndistortAtMostSize(const cv::Mat& image, const Camera& camera,
                                     int max_image_size) {
-  const double scale =
-      std::min(1.0, static_cast<double>(max_image_size) / std::max(camera.width, camera.height));
-  return UndistortImage(image, camera, scale);
+  return UndistortImage(image, camera, SizeWithin(camera, max_image_size).scale);
 }
 
 }  // namespace varsfm

@@ -82,7 +82,7 @@ std::vector<std::string> ListImages(const fs::path& dir) {
 
   std::vector<FoundImage> found;
   std::vector<std::string> unreadable;  // photos in formats varsfm does not read
-  std::vector<std::string> hidden;      // hidden files and folders with image files in reach
+  std::vector<std::string> hidden;      // hidden folders and hidden image files, for one line
   fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink, ec);
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {

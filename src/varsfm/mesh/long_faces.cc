@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "varsfm/camera/image_size.h"
 #include "varsfm/geometry/rasterizer.h"
 #include "varsfm/util/option_check.h"
 
@@ -45,14 +46,11 @@ struct Verdicts {
 // region's pixel beside them.
 void JudgeView(const LongFaceOptions& options, const PosedCamera& view,
                const std::vector<bool>& is_long, const TriangleMesh& mesh, Verdicts* verdicts) {
-  const Camera& camera = view.camera;
-  const double scale = std::min(
-      1.0, options.raster_size / static_cast<double>(std::max(camera.width, camera.height)));
-  const int width = std::max(1, static_cast<int>(std::lround(camera.width * scale)));
-  const int height = std::max(1, static_cast<int>(std::lround(camera.height * scale)));
+  const ScaledSize size = SizeWithin(view.camera, options.raster_size);
+  const int width = size.width, height = size.height;
   const FaceRaster raster =
-      RasterizeFaces(ProjectVertices(mesh.vertices, camera, view.cam_from_world, scale), mesh.faces,
-                     width, height);
+      RasterizeFaces(ProjectVertices(mesh.vertices, view.camera, view.cam_from_world, size.scale),
+                     mesh.faces, width, height);
   const auto at = [&](int x, int y) { return static_cast<size_t>(y) * width + x; };
   const auto long_pixel = [&](size_t p) { return raster.face[p] >= 0 && is_long[raster.face[p]]; };
   // A region is one patch of surface: long faces behind one another in the image (a membrane in

@@ -8,6 +8,7 @@
 #include <tbb/task_arena.h>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/camera/image_size.h"
 #include "varsfm/geometry/rasterizer.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
@@ -49,10 +50,9 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
                  const cv::Mat& photo, const FaceObservationOptions& options, float* quality,
                  Eigen::Vector3f* colour, double* coverage, cv::Mat* small_out, double* scale_out) {
   const Camera& camera = view.camera;
-  const double scale = std::min(
-      1.0, options.max_raster_size / static_cast<double>(std::max(camera.width, camera.height)));
-  const int w = std::max(1, static_cast<int>(std::lround(camera.width * scale)));
-  const int h = std::max(1, static_cast<int>(std::lround(camera.height * scale)));
+  const ScaledSize size = SizeWithin(camera, options.max_raster_size);
+  const double scale = size.scale;
+  const int w = size.width, h = size.height;
   cv::Mat small8, small, grey, gx, gy, magnitude;
   cv::resize(photo, small8, cv::Size(w, h), 0, 0, cv::INTER_AREA);
   small8.convertTo(small, CV_32FC3);

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/camera/image_size.h"
 #include "varsfm/geometry/rasterizer.h"
 #include "varsfm/texture/atlas.h"
 #include "varsfm/texture/atlas_fill.h"
@@ -151,12 +152,8 @@ std::vector<PosedCamera> CappedViews(const std::vector<PosedCamera>& views, int 
   std::vector<PosedCamera> capped = views;
   if (max_size <= 0) return capped;
   for (PosedCamera& view : capped) {
-    const Camera& camera = view.camera;
-    const int longer = std::max(camera.width, camera.height);
-    if (longer <= max_size) continue;
-    const double scale = static_cast<double>(max_size) / longer;
-    view.camera = camera.Resized(std::max(1, static_cast<int>(std::lround(camera.width * scale))),
-                                 std::max(1, static_cast<int>(std::lround(camera.height * scale))));
+    const ScaledSize size = SizeWithin(view.camera, max_size);
+    if (size.scale < 1) view.camera = view.camera.Resized(size.width, size.height);
   }
   return capped;
 }
