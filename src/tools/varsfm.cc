@@ -339,14 +339,14 @@ void AddMatchCommand(CLI::App* app) {
   AddWithDefault(cmd, "--min-inliers", options->verification.min_num_inliers,
                  "fewer inliers: the pair is not verified");
   AddChoice(cmd, "--ransac", &options->verification.method, ChoicesOf(varsfm::kRansacMethodNames),
-            "robust estimator of F and H: OpenCV's USAC (MSAC + graph-cut LO, or MAGSAC++), "
-            "OpenCV's classic RANSAC, or the project's LO-RANSAC or GC-RANSAC");
+            "robust estimator of F and H, the project's RANSAC with MSAC scoring: without local "
+            "optimisation, or with iterated least squares (LO-RANSAC) or graph cuts (GC-RANSAC)");
   AddWithDefault(cmd, "--gc-neighbours", options->verification.mean_neighbours,
                  "gc-ransac: mean neighbours of a match in its neighbourhood graph");
   AddWithDefault(cmd, "--gc-coherence", options->verification.spatial_coherence,
                  "gc-ransac: weight of equal labels among neighbours (0 to 1)");
   cmd->add_flag("!--no-degensac", options->verification.degeneracy_recovery,
-                "lo-ransac, gc-ransac: no DEGENSAC (plane-and-parallax recovery of F)");
+                "no DEGENSAC (plane-and-parallax recovery of F from samples on a dominant plane)");
   AddWithDefault(cmd, "--threads", options->num_threads, "worker threads (0: all cores)");
   AddWithDefault(cmd, "--commit-interval", options->commit_interval,
                  "seconds between commits: the most work a kill loses");

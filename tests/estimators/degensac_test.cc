@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "estimators/test_scenes.h"
 #include "varsfm/estimators/fundamental_7pt.h"
 #include "varsfm/estimators/fundamental_degeneracy.h"
+#include "varsfm/estimators/ransac.h"
 #include "varsfm/estimators/two_view_estimators.h"
 #include "varsfm/geometry/fundamental.h"
 
@@ -164,6 +166,34 @@ void CountRecovered(bool degeneracy_recovery, int* off_plane_kept, int* off_plan
       *worst_epipolar_px =
           std::max(*worst_epipolar_px, SampsonError(report.model, exact.x1[i], exact.x2[i]));
   }
+}
+
+// A shift along x whose estimator calls the model 5 degenerate and offers 0 in its place: the
+// data favour 5, but a model of a degenerate sample is never taken itself; only what the
+// recovery offers competes.
+struct FlaggingEstimator : testing::ShiftEstimator {
+  void DegeneracyModels(const std::vector<int>&, const Model& model, const RansacOptions&, Rng*,
+                        std::vector<Model>* models) const {
+    if (model == 5.0) models->push_back(0.0);
+  }
+};
+
+TEST(Ransac, AModelOfADegenerateSampleIsNotKept) {
+  FlaggingEstimator estimator;
+  estimator.x.assign(60, 5.0);
+  estimator.x.insert(estimator.x.end(), 40, 0.0);
+  RansacOptions options;
+  options.max_error = 0.5;
+  options.local_optimization = false;
+  options.degeneracy_recovery = true;
+  const RansacReport<double> with = Ransac(estimator, options);
+  ASSERT_TRUE(with.success);
+  EXPECT_EQ(with.model, 0.0);
+  EXPECT_EQ(with.num_inliers, 40u);
+  options.degeneracy_recovery = false;
+  const RansacReport<double> without = Ransac(estimator, options);
+  EXPECT_EQ(without.model, 5.0);
+  EXPECT_EQ(without.num_inliers, 60u);
 }
 
 TEST(Degensac, KeepsTheMatchesOffADominantPlane) {

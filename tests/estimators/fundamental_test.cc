@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "estimators/test_scenes.h"
@@ -29,6 +31,33 @@ TEST(Fundamental7pt, OneSolutionIsExact) {
     for (const auto& F : models) best = std::min(best, MaxSampson(F, m));
     EXPECT_LT(best, 1e-8);
   }
+}
+
+// The estimator's minimal solve keeps the seven-point solutions whose sample agrees on the
+// orientation of its epipolar lines, the exact one among them.
+TEST(FundamentalEstimator, MinimalSolveKeepsTheOrientedSolutions) {
+  const SyntheticScene scene = GenerateSyntheticScene(testing::ZoomBox());
+  const testing::Matches m = testing::PairMatches(scene, 0, 2);
+  const FundamentalEstimator estimator{m.x1, m.x2};
+  int dropped = 0;
+  for (int start = 0; start + 7 <= 140; start += 7) {
+    std::vector<int> sample(7);
+    for (int k = 0; k < 7; ++k) sample[k] = start + k;
+    if (std::any_of(sample.begin(), sample.end(), [&](int i) { return m.outlier[i]; })) continue;
+    const std::vector<Eigen::Vector2d> y1(m.x1.begin() + start, m.x1.begin() + start + 7);
+    const std::vector<Eigen::Vector2d> y2(m.x2.begin() + start, m.x2.begin() + start + 7);
+    std::vector<Eigen::Matrix3d> all, kept;
+    Fundamental7pt(y1, y2, &all);
+    estimator.MinimalSolve(sample, &kept);
+    double best = 1e300;
+    for (const auto& F : kept) {
+      EXPECT_TRUE(SatisfiesOrientedEpipolarConstraint(F, y1, y2));
+      best = std::min(best, MaxSampson(F, m));
+    }
+    EXPECT_LT(best, 1e-8);
+    dropped += static_cast<int>(all.size() - kept.size());
+  }
+  RecordProperty("dropped", dropped);
 }
 
 TEST(Fundamental8pt, ExactWithoutNoise) {

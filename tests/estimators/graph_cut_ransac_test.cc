@@ -69,31 +69,11 @@ TEST(CorrespondenceNeighbourhood, EmptyForFewerThanTwoPoints) {
   EXPECT_TRUE(CorrespondenceNeighbourhood({{1, 1}}, {{2, 2}}, 6).edges.empty());
 }
 
-// A one-parameter model (a shift along x) to check the labelling against its energy by
-// enumeration.
-struct ShiftEstimator {
-  using Model = double;
-  static constexpr int kMinSampleSize = 1;
-  std::vector<double> x;
-  size_t NumData() const { return x.size(); }
-  void MinimalSolve(const std::vector<int>& s, std::vector<Model>* m) const {
-    m->push_back(x[s[0]]);
-  }
-  void NonMinimalSolve(const std::vector<int>& s, const Model&, std::vector<Model>* m) const {
-    double sum = 0;
-    for (const int i : s) sum += x[i];
-    m->push_back(sum / s.size());
-  }
-  double SquaredResidual(const Model& model, size_t i) const {
-    return (x[i] - model) * (x[i] - model);
-  }
-};
-
 TEST(GraphCutInliers, IsTheLeastEnergyLabelling) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-3, 3);
   for (int trial = 0; trial < 50; ++trial) {
-    ShiftEstimator estimator;
+    testing::ShiftEstimator estimator;
     for (int i = 0; i < 9; ++i) estimator.x.push_back(u(rng));
     NeighbourhoodGraph graph;
     for (int i = 0; i < 9; ++i)

@@ -49,4 +49,24 @@ inline void InlierQuality(const std::vector<char>& mask, const std::vector<char>
   *precision = tp / static_cast<double>(tp + fp);
 }
 
+// A one-parameter model, a shift along x: small enough to check a labelling against its energy
+// by enumeration, or RANSAC's choices by hand.
+struct ShiftEstimator {
+  using Model = double;
+  static constexpr int kMinSampleSize = 1;
+  std::vector<double> x;
+  size_t NumData() const { return x.size(); }
+  void MinimalSolve(const std::vector<int>& s, std::vector<Model>* m) const {
+    m->push_back(x[s[0]]);
+  }
+  void NonMinimalSolve(const std::vector<int>& s, const Model&, std::vector<Model>* m) const {
+    double sum = 0;
+    for (const int i : s) sum += x[i];
+    m->push_back(sum / static_cast<double>(s.size()));
+  }
+  double SquaredResidual(const Model& model, size_t i) const {
+    return (x[i] - model) * (x[i] - model);
+  }
+};
+
 }  // namespace varsfm::testing

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 
 #include "varsfm/geometry/essential.h"
@@ -45,6 +46,36 @@ TEST(Fundamental, FromProjectionsAndFromPoseAgreeAndAreExact) {
   // e2 is the image of camera 1's centre in image 2.
   const Eigen::Vector3d c1 = scene.ProjectionMatrix(3) * scene.poses[0].Center().homogeneous();
   EXPECT_LT(c1.normalized().cross(e2).norm(), 1e-9);
+}
+
+// Points in front of both cameras agree on the orientation of their epipolar lines; a point
+// behind the second camera, though it satisfies x2^T F x1 = 0, does not (Chum, Werner & Matas
+// 2004).
+TEST(Fundamental, OrientedConstraintRejectsAPointBehindACamera) {
+  Eigen::Matrix3d K;
+  K << 800, 0, 320, 0, 800, 240, 0, 0, 1;
+  Rigid3d cam2_from_cam1;
+  cam2_from_cam1.rotation = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+  cam2_from_cam1.translation = Eigen::Vector3d(-1.0, 0.1, -4.0);  // 4 units ahead of camera 1
+  for (const double sign : {1.0, -1.0}) {  // F is known up to sign: either must do
+    const Eigen::Matrix3d F = sign * FundamentalFromPose(K, K, cam2_from_cam1);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<Eigen::Vector2d> x1, x2;
+    for (int i = 0; i < 20; ++i) {  // depth 6 to 10 from camera 1: in front of both
+      const Eigen::Vector3d X(2 * u(rng), 2 * u(rng), 8 + 2 * u(rng));
+      x1.push_back((K * X).hnormalized());
+      x2.push_back((K * (cam2_from_cam1 * X)).hnormalized());
+    }
+    EXPECT_TRUE(SatisfiesOrientedEpipolarConstraint(F, x1, x2));
+    // Depth 2 from camera 1, about -2 from camera 2: behind it, projected all the same.
+    const Eigen::Vector3d behind(0.3, -0.2, 2.0);
+    ASSERT_LT((cam2_from_cam1 * behind).z(), 0);
+    x1.push_back((K * behind).hnormalized());
+    x2.push_back((K * (cam2_from_cam1 * behind)).hnormalized());
+    EXPECT_LT(SampsonError(F, x1.back(), x2.back()), 1e-9);
+    EXPECT_FALSE(SatisfiesOrientedEpipolarConstraint(F, x1, x2));
+  }
 }
 
 // The scalar form in fundamental.h claims the sums of the textbook form in the same order: the

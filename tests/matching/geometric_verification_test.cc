@@ -98,8 +98,7 @@ TEST_P(VerificationMethods, FindsInliersAmongHalfOutliers) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, VerificationMethods,
-                         ::testing::Values(RansacMethod::kUsacMagsac, RansacMethod::kUsacAccurate,
-                                           RansacMethod::kRansac, RansacMethod::kLoRansac,
+                         ::testing::Values(RansacMethod::kMsac, RansacMethod::kLoRansac,
                                            RansacMethod::kGraphCut));
 
 TEST(GeometricVerification, PlanarSceneIsFlaggedPlanar) {
@@ -116,7 +115,8 @@ TEST(GeometricVerification, PlanarSceneIsFlaggedPlanar) {
 }
 
 // F and H are judged each at its own threshold: an H held to 0.05 px (below the noise) no
-// longer flags the plane, and an F held to 0.005 px no longer verifies the pair.
+// longer flags the plane, and an F held to 0.001 px no longer verifies the pair (beyond its own
+// seven points a sample's F holds a plane point that close by chance, one in 300).
 TEST(GeometricVerification, EachModelHasItsOwnThreshold) {
   const SyntheticPair pair = MakePair(150, 50, true, 8);
   VerificationOptions options;
@@ -126,7 +126,7 @@ TEST(GeometricVerification, EachModelHasItsOwnThreshold) {
   EXPECT_EQ(tight_h.config, TwoViewGeometry::kUncalibrated);
   EXPECT_GE(CountTrueInliers(tight_h, 150), 120);
   options = {};
-  options.max_error = 0.005;
+  options.max_error = 0.001;
   const TwoViewGeometry tight_f =
       VerifyTwoViewGeometry(pair.keypoints1, pair.keypoints2, pair.matches, options);
   EXPECT_EQ(tight_f.config, TwoViewGeometry::kDegenerate);
@@ -148,8 +148,7 @@ TEST(GeometricVerification, TooFewMatchesIsDegenerate) {
 TEST(GeometricVerification, SameSeedSameResult) {
   const SyntheticPair pair = MakePair(100, 100, false, 11);
   for (RansacMethod method :
-       {RansacMethod::kUsacMagsac, RansacMethod::kUsacAccurate, RansacMethod::kRansac,
-        RansacMethod::kLoRansac, RansacMethod::kGraphCut}) {
+       {RansacMethod::kMsac, RansacMethod::kLoRansac, RansacMethod::kGraphCut}) {
     VerificationOptions options;
     options.method = method;
     options.seed = 123;

@@ -57,9 +57,9 @@ struct RansacOptions {
   int lo_iterations = 20;
   int max_graph_cuts = 10;
   // Estimators that offer it test each new best model of a minimal sample for a degenerate
-  // sample and try the models that recover from it: the fundamental matrix's DEGENSAC
-  // (fundamental_degeneracy.h; two_view_estimators.h). Off by default, where an F is estimated
-  // the models stay as they were.
+  // sample; a model of a degenerate sample is replaced by the models that recover from it: the
+  // fundamental matrix's DEGENSAC (fundamental_degeneracy.h; two_view_estimators.h). Off by
+  // default, where an F is estimated the models stay as they were.
   bool degeneracy_recovery = false;
   // The recovery's own sampling (DEGENSAC: pairs of correspondences off the plane) runs an
   // adaptive number of trials for `confidence`, between these bounds.
@@ -199,153 +199,211 @@ inline int RequiredIterations(size_t num_inliers, size_t num_data, int sample_si
 
 }  // namespace ransac_internal
 
+namespace ransac_internal {
+
+// One Ransac() run's state: the best model so far, and the steps that improve it.
 template <typename Estimator>
-RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
-                                               const RansacOptions& options,
-                                               const NeighbourhoodGraph* neighbourhood = nullptr) {
+class Search {
+ public:
   using Model = typename Estimator::Model;
-  using ransac_internal::Score;
-  constexpr int kSample = Estimator::kMinSampleSize;
-  RansacReport<Model> report;
-  const size_t n = estimator.NumData();
-  if (n < static_cast<size_t>(kSample) || options.max_error <= 0) return report;
-
-  const double threshold2 = options.max_error * options.max_error;
-  const bool msac = options.msac_score;
-  Rng rng(options.seed);
-  std::uniform_int_distribution<size_t> pick(0, n - 1);
-
-  Model best_model{};
-  Score best;
-  std::vector<int> sample(kSample), inliers;
-  std::vector<Model> models;
-
-  const auto consider = [&](const Model& model) {
-    const Score score = ransac_internal::Evaluate(estimator, model, threshold2, msac, best.cost);
-    if (score.cost < best.cost) {
-      best = score;
-      best_model = model;
-      return true;
-    }
-    return false;
+  static constexpr int kSample = Estimator::kMinSampleSize;
+  static constexpr bool kRecovers =
+      requires(const Estimator& e, const std::vector<int>& s, const Model& m,
+               const RansacOptions& o, Rng* r, std::vector<Model>* out) {
+    e.DegeneracyModels(s, m, o, r, out);
   };
 
-  // Local optimisation of a new best model: least squares on its inliers, then a few rounds
-  // of least squares on the inliers at a threshold shrinking from 3t to t (Lebeda et al.
-  // 2012, "iterative least squares"), keeping any model that scores better.
-  const auto local_optimize = [&]() {
+  Search(const Estimator& estimator, const RansacOptions& options,
+         const NeighbourhoodGraph* neighbourhood)
+      : estimator_(estimator),
+        options_(options),
+        neighbourhood_(neighbourhood),
+        threshold2_(options.max_error * options.max_error),
+        rng_(options.seed),
+        pick_(0, estimator.NumData() - 1),
+        sample_(kSample) {}
+
+  const Score& best() const { return best_; }
+
+  // Draws a minimal sample and keeps the best of its models that beats the best so far; true
+  // when one did.
+  bool TrySample() {
+    DrawSample(pick_, &rng_, &sample_);
+    candidates_.clear();
+    estimator_.MinimalSolve(sample_, &candidates_);
+    bool improved = false;
+    for (const Model& model : candidates_) {
+      const Score score = Evaluate(estimator_, model, threshold2_, options_.msac_score, best_.cost);
+      if (!(score.cost < best_.cost)) continue;
+      // A new best from a degenerate sample (DEGENSAC: five of F's seven points on one plane)
+      // is not taken itself: it fits the plane and whatever off-plane data the rest of its
+      // sample picked, on a facade often wrong matches. Only the models recovered from the
+      // plane and the parallax of the other data compete (Chum, Werner & Matas, "Two-view
+      // geometry estimation unaffected by a dominant plane", CVPR 2005; OpenCV's USAC does the
+      // same).
+      if constexpr (kRecovers) {
+        if (options_.degeneracy_recovery) {
+          models_.clear();
+          estimator_.DegeneracyModels(sample_, model, options_, &rng_, &models_);
+          if (!models_.empty()) {
+            for (const Model& recovered : models_) improved |= Consider(recovered);
+            continue;
+          }
+        }
+      }
+      best_ = score;
+      best_model_ = model;
+      improved = true;
+    }
+    return improved;
+  }
+
+  // The local optimisation of a new best model, as the options and the neighbourhood choose.
+  void Optimize() {
+    if (options_.local_optimization) neighbourhood_ ? GraphCutOptimize() : LocalOptimize();
+  }
+
+  // The best model may have become degenerate in its local optimisation rather than from a
+  // degenerate sample (least squares on inliers mostly from one plane): it is tested once more
+  // on minimal samples of its own inliers.
+  void TestForDegeneracy() {
+    if (!(kRecovers && options_.degeneracy_recovery)) return;
+    Inliers(estimator_, best_model_, threshold2_, &inliers_);
+    for (int trial = 0; trial < options_.degeneracy_final_samples &&
+                        inliers_.size() > static_cast<size_t>(kSample);
+         ++trial) {
+      ShuffleFront(kSample, &inliers_, &rng_);
+      sample_.assign(inliers_.begin(), inliers_.begin() + kSample);
+      const bool improved = Recover();
+      if (models_.empty()) continue;  // the model passed the test on this sample
+      if (improved) Optimize();
+      break;
+    }
+  }
+
+  // A final refit on all inliers of the best model, kept only if it scores better; the report.
+  RansacReport<Model> Finish(int iterations) {
+    Inliers(estimator_, best_model_, threshold2_, &inliers_);
+    if (inliers_.size() > static_cast<size_t>(kSample)) {
+      models_.clear();
+      estimator_.NonMinimalSolve(inliers_, best_model_, &models_);
+      if (!models_.empty()) Consider(models_.front());
+    }
+    RansacReport<Model> report;
+    report.success = true;
+    report.model = best_model_;
+    report.iterations = iterations;
+    report.inlier_mask.assign(estimator_.NumData(), 0);
+    for (size_t i = 0; i < estimator_.NumData(); ++i) {
+      if (estimator_.SquaredResidual(best_model_, i) < threshold2_) {
+        report.inlier_mask[i] = 1;
+        ++report.num_inliers;
+      }
+    }
+    return report;
+  }
+
+ private:
+  bool Consider(const Model& model) {
+    const Score score = Evaluate(estimator_, model, threshold2_, options_.msac_score, best_.cost);
+    if (!(score.cost < best_.cost)) return false;
+    best_ = score;
+    best_model_ = model;
+    return true;
+  }
+
+  // Least squares on the best model's inliers, then a few rounds of least squares on the
+  // inliers at a threshold shrinking from 3t to t (Lebeda et al. 2012, "iterative least
+  // squares"), keeping any model that scores better.
+  void LocalOptimize() {
     constexpr int kSteps = 4;
     constexpr double kMultiplier = 3.0;
     for (int step = 0; step <= kSteps; ++step) {
       const double m =
           step == 0 ? 1.0 : kMultiplier - (kMultiplier - 1.0) * (step - 1) / (kSteps - 1);
-      ransac_internal::Inliers(estimator, best_model, threshold2 * m * m, &inliers);
-      if (inliers.size() <= static_cast<size_t>(kSample)) return;
-      models.clear();
-      estimator.NonMinimalSolve(inliers, best_model, &models);
-      if (models.empty()) return;
-      consider(models.front());
+      Inliers(estimator_, best_model_, threshold2_ * m * m, &inliers_);
+      if (inliers_.size() <= static_cast<size_t>(kSample)) return;
+      models_.clear();
+      estimator_.NonMinimalSolve(inliers_, best_model_, &models_);
+      if (models_.empty()) return;
+      Consider(models_.front());
     }
-  };
+  }
 
   // Graph-cut local optimisation (RansacOptions::spatial_coherence).
-  std::vector<int> subset;
-  const auto graph_cut_optimize = [&]() {
-    const size_t subset_size = static_cast<size_t>(options.lo_sample_factor) * kSample;
-    for (int cut = 0; cut < options.max_graph_cuts; ++cut) {
-      ransac_internal::GraphCutInliers(estimator, best_model, threshold2, *neighbourhood,
-                                       options.spatial_coherence, &inliers);
-      if (inliers.size() <= static_cast<size_t>(kSample)) return;
+  void GraphCutOptimize() {
+    const size_t subset_size = static_cast<size_t>(options_.lo_sample_factor) * kSample;
+    for (int cut = 0; cut < options_.max_graph_cuts; ++cut) {
+      GraphCutInliers(estimator_, best_model_, threshold2_, *neighbourhood_,
+                      options_.spatial_coherence, &inliers_);
+      if (inliers_.size() <= static_cast<size_t>(kSample)) return;
       bool improved = false;
-      const bool all = inliers.size() <= subset_size;
-      for (int trial = 0; trial < (all ? 1 : options.lo_iterations); ++trial) {
+      const bool all = inliers_.size() <= subset_size;
+      for (int trial = 0; trial < (all ? 1 : options_.lo_iterations); ++trial) {
         if (all) {
-          subset = inliers;
+          subset_ = inliers_;
         } else {
-          ransac_internal::ShuffleFront(subset_size, &inliers, &rng);
-          subset.assign(inliers.begin(), inliers.begin() + static_cast<long>(subset_size));
+          ShuffleFront(subset_size, &inliers_, &rng_);
+          subset_.assign(inliers_.begin(), inliers_.begin() + static_cast<long>(subset_size));
         }
-        models.clear();
-        estimator.NonMinimalSolve(subset, best_model, &models);
-        for (const Model& model : models) improved |= consider(model);
+        models_.clear();
+        estimator_.NonMinimalSolve(subset_, best_model_, &models_);
+        for (const Model& model : models_) improved |= Consider(model);
       }
       if (!improved) return;
     }
-  };
+  }
 
-  // The local optimisation of a new best model, as the options and the neighbourhood choose.
-  const auto optimize = [&] {
-    if (options.local_optimization) neighbourhood ? graph_cut_optimize() : local_optimize();
-  };
-
-  // Recovery from a degenerate sample (RansacOptions::degeneracy_recovery) of best_model, new
-  // from `sample`: the estimator's recovered models are left in `models` (none when it found
-  // the sample sound); true when one of them scored better.
-  constexpr bool kRecovers = requires(const Estimator& e, std::vector<Model>* out, Rng* r) {
-    e.DegeneracyModels(sample, best_model, options, r, out);
-  };
-  const auto recover = [&] {
-    models.clear();
-    if constexpr (kRecovers) estimator.DegeneracyModels(sample, best_model, options, &rng, &models);
+  // Recovery of the best model from sample_, a minimal sample of its inliers, should the sample
+  // be degenerate: the estimator's recovered models are left in models_ (none when it found the
+  // sample sound); true when one of them scored better.
+  bool Recover() {
+    models_.clear();
+    if constexpr (kRecovers)
+      estimator_.DegeneracyModels(sample_, best_model_, options_, &rng_, &models_);
     bool improved = false;
-    for (const Model& model : models) improved |= consider(model);
+    for (const Model& model : models_) improved |= Consider(model);
     return improved;
-  };
+  }
 
+  const Estimator& estimator_;
+  const RansacOptions& options_;
+  const NeighbourhoodGraph* neighbourhood_;
+  double threshold2_;
+  Rng rng_;
+  std::uniform_int_distribution<size_t> pick_;
+  Model best_model_{};
+  Score best_;
+  std::vector<int> sample_, inliers_, subset_;
+  std::vector<Model> models_, candidates_;
+};
+
+}  // namespace ransac_internal
+
+template <typename Estimator>
+RansacReport<typename Estimator::Model> Ransac(const Estimator& estimator,
+                                               const RansacOptions& options,
+                                               const NeighbourhoodGraph* neighbourhood = nullptr) {
+  constexpr int kSample = Estimator::kMinSampleSize;
+  RansacReport<typename Estimator::Model> report;
+  const size_t n = estimator.NumData();
+  if (n < static_cast<size_t>(kSample) || options.max_error <= 0) return report;
+  ransac_internal::Search<Estimator> search(estimator, options, neighbourhood);
   int required = options.max_iterations;
   int iteration = 0;
   for (; iteration < std::min(required, options.max_iterations); ++iteration) {
-    ransac_internal::DrawSample(pick, &rng, &sample);
-    models.clear();
-    estimator.MinimalSolve(sample, &models);
-    bool improved = false;
-    for (const Model& model : models) improved |= consider(model);
-    if (!improved) continue;
-    if (kRecovers && options.degeneracy_recovery) recover();
-    optimize();
-    required = ransac_internal::RequiredIterations(best.num_inliers, n, kSample, options.confidence,
-                                                   options.min_iterations, options.max_iterations);
+    if (!search.TrySample()) continue;
+    search.Optimize();
+    required = ransac_internal::RequiredIterations(search.best().num_inliers, n, kSample,
+                                                   options.confidence, options.min_iterations,
+                                                   options.max_iterations);
   }
-
-  if (best.num_inliers < static_cast<size_t>(kSample)) {
+  if (search.best().num_inliers < static_cast<size_t>(kSample)) {
     report.iterations = iteration;
     return report;
   }
-  // The best model may have become degenerate in its local optimisation rather than from a
-  // degenerate sample (least squares on inliers mostly from one plane): it is tested once more
-  // on minimal samples of its own inliers.
-  if (kRecovers && options.degeneracy_recovery) {
-    ransac_internal::Inliers(estimator, best_model, threshold2, &inliers);
-    for (int trial = 0;
-         trial < options.degeneracy_final_samples && inliers.size() > static_cast<size_t>(kSample);
-         ++trial) {
-      ransac_internal::ShuffleFront(kSample, &inliers, &rng);
-      sample.assign(inliers.begin(), inliers.begin() + kSample);
-      const bool improved = recover();
-      if (models.empty()) continue;  // the model passed the test on this sample
-      if (improved) optimize();
-      break;
-    }
-  }
-  // Final refit on all inliers of the best model, kept only if it scores at least as well.
-  ransac_internal::Inliers(estimator, best_model, threshold2, &inliers);
-  if (inliers.size() > static_cast<size_t>(kSample)) {
-    models.clear();
-    estimator.NonMinimalSolve(inliers, best_model, &models);
-    if (!models.empty()) consider(models.front());
-  }
-
-  report.success = true;
-  report.model = best_model;
-  report.iterations = iteration;
-  report.inlier_mask.assign(n, 0);
-  report.num_inliers = 0;
-  for (size_t i = 0; i < n; ++i) {
-    if (estimator.SquaredResidual(best_model, i) < threshold2) {
-      report.inlier_mask[i] = 1;
-      ++report.num_inliers;
-    }
-  }
+  search.TestForDegeneracy();
+  report = search.Finish(iteration);
   return report;
 }
 

@@ -40,7 +40,13 @@ void TwoViewEstimator<kModel>::MinimalSolve(const std::vector<int>& sample,
     Eigen::Matrix3d H;
     if (Homography4pt(y1, y2, &H)) models->push_back(H);
   } else if constexpr (kModel == TwoViewModel::kFundamental) {
-    Fundamental7pt(y1, y2, models);
+    // Solutions that would put part of their own sample behind the cameras are no epipolar
+    // geometry of the scene (SatisfiesOrientedEpipolarConstraint): dropped before they are
+    // scored, as OpenCV's USAC drops them.
+    std::vector<Model> candidates;
+    Fundamental7pt(y1, y2, &candidates);
+    for (const Model& F : candidates)
+      if (SatisfiesOrientedEpipolarConstraint(F, y1, y2)) models->push_back(F);
   } else {
     Essential5pt(y1, y2, models);
   }

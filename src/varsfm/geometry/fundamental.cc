@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
@@ -53,6 +54,26 @@ Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K1, const Eigen::Matr
 double SampsonError(const Eigen::Matrix3d& F, const Eigen::Vector2d& x1,
                     const Eigen::Vector2d& x2) {
   return std::sqrt(SampsonErrorSquared(F, x1, x2));
+}
+
+bool SatisfiesOrientedEpipolarConstraint(const Eigen::Matrix3d& F,
+                                         const std::vector<Eigen::Vector2d>& x1,
+                                         const std::vector<Eigen::Vector2d>& x2) {
+  // e2 spans F's left null space (F^T e2 = 0): it is orthogonal to F's columns, so the cross
+  // product of two of them, the pair with the largest product for a rank-2 F that is nearly
+  // rank 1 in one pair.
+  Eigen::Vector3d e2 = F.col(0).cross(F.col(1));
+  for (const Eigen::Vector3d& c : {F.col(0).cross(F.col(2)), F.col(1).cross(F.col(2))})
+    if (c.squaredNorm() > e2.squaredNorm()) e2 = c;
+  double reference = 0.0;
+  for (size_t i = 0; i < x1.size() && i < x2.size(); ++i) {
+    const double sign = e2.cross(x2[i].homogeneous()).dot(F * x1[i].homogeneous());
+    if (reference == 0.0)
+      reference = sign;
+    else if (reference * sign < 0.0)
+      return false;
+  }
+  return true;
 }
 
 }  // namespace varsfm

@@ -2,6 +2,7 @@
 // Fundamental-matrix geometry (Hartley & Zisserman, chapter 9): x2^T F x1 = 0 for pixels
 // x1 in image 1 and x2 in image 2.
 #include <limits>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -15,6 +16,17 @@ Eigen::Matrix3d CrossProductMatrix(const Eigen::Vector3d& v);
 
 // Epipoles as unit homogeneous vectors: F e1 = 0 (in image 1), F^T e2 = 0 (in image 2).
 void Epipoles(const Eigen::Matrix3d& F, Eigen::Vector3d* e1, Eigen::Vector3d* e2);
+
+// The oriented epipolar constraint (Chum, Werner & Matas, "Epipolar geometry estimation via
+// RANSAC benefits from the oriented epipolar constraint", ICPR 2004): for points in front of both
+// cameras, the epipolar line F x1 and the line e2 x x2 through the epipole are the same line with
+// the same orientation, up to one sign common to every correspondence (F and e2 are known up to
+// sign). True when the correspondences x1[i] <-> x2[i] agree on that sign (a correspondence on
+// which the sign is 0 agrees with any); an F that fails it cannot come from cameras that see
+// those points in front of them.
+bool SatisfiesOrientedEpipolarConstraint(const Eigen::Matrix3d& F,
+                                         const std::vector<Eigen::Vector2d>& x1,
+                                         const std::vector<Eigen::Vector2d>& x2);
 
 // The camera centre C of P (P C = 0) as a homogeneous 4-vector, by cofactor expansion
 // (H&Z section 6.2.4: C = (det[p2,p3,p4], -det[p1,p3,p4], det[p1,p2,p4], -det[p1,p2,p3])).

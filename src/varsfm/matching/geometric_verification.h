@@ -1,10 +1,7 @@
 #pragma once
 // Geometric verification of an image pair's putative matches, as COLMAP's uncalibrated
-// two-view estimation does it: a fundamental matrix and a homography by RANSAC, then the pair's
-// configuration from their inlier counts. By default the robust estimator is OpenCV's USAC; the
-// project's own (estimators/ransac.h, with or without graph-cut local optimisation) can stand in
-// (RansacMethod): on the planar facade of entry-P10 they keep more wrong matches than USAC
-// (bench/results/2026-12-04-gc-ransac.md), so they are not the default yet.
+// two-view estimation does it: a fundamental matrix and a homography by the project's RANSAC
+// (estimators/ransac.h), then the pair's configuration from their inlier counts.
 #include <cstdint>
 
 #include "varsfm/feature/two_view_geometry.h"
@@ -14,24 +11,25 @@
 
 namespace varsfm {
 
-// Which robust estimator finds F and H.
+// Which robust estimator finds F and H: the project's RANSAC (estimators/ransac.h) with MSAC
+// scoring and, for F, DEGENSAC's recovery from samples on a dominant plane, with or without a
+// local optimisation of each new best model. Without is the default: on a facade the local
+// optimisations' least squares on mostly planar inliers tilt F towards groups of wrong matches
+// that then fit it within the threshold, and lift H's inlier count over the planarity test's
+// ratio (bench/results/2026-12-05-s20-verification.md).
 enum class RansacMethod {
-  kUsacMagsac,    // cv::USAC_MAGSAC: MAGSAC++ score, sigma-consensus local optimisation
-  kUsacAccurate,  // cv::USAC_ACCURATE: MSAC score, graph-cut local optimisation
-  kRansac,        // classic cv::FM_RANSAC / cv::RANSAC (OpenCV's thread-local RNG, re-seeded)
-  kLoRansac,      // the project's LO-RANSAC (estimators/ransac.h), iterated least squares
-  kGraphCut,      // the project's RANSAC with graph-cut local optimisation (GC-RANSAC)
+  kMsac,      // no local optimisation
+  kLoRansac,  // iterated least squares (Lebeda, Matas & Chum 2012)
+  kGraphCut,  // graph-cut local optimisation (GC-RANSAC, Barath & Matas 2018)
 };
 
 inline constexpr EnumName<RansacMethod> kRansacMethodNames[] = {
-    {RansacMethod::kUsacAccurate, "usac-accurate"},
-    {RansacMethod::kUsacMagsac, "usac-magsac"},
-    {RansacMethod::kRansac, "opencv-ransac"},
+    {RansacMethod::kMsac, "msac"},
     {RansacMethod::kLoRansac, "lo-ransac"},
     {RansacMethod::kGraphCut, "gc-ransac"}};
 
 struct VerificationOptions {
-  RansacMethod method = RansacMethod::kUsacAccurate;
+  RansacMethod method = RansacMethod::kMsac;
   // Inlier thresholds in pixels: F's on the Sampson distance, H's on the transfer error. F's is
   // tight: on a facade (most matches on one plane) many wrong epipolar geometries fit within a
   // loose one together with the wrong matches along their epipolar lines, and the mapper's
@@ -50,9 +48,8 @@ struct VerificationOptions {
   // equal labels among neighbours (RansacOptions::spatial_coherence).
   double mean_neighbours = 6.0;
   double spatial_coherence = 0.2;
-  // kLoRansac, kGraphCut: DEGENSAC for F (estimators/fundamental_degeneracy.h): a model from a
-  // sample mostly on one plane, or one that became so in its local optimisation, is recovered
-  // by plane and parallax. OpenCV's USAC has its own test.
+  // DEGENSAC for F (estimators/fundamental_degeneracy.h): a model from a sample mostly on one
+  // plane, or one that became so in its local optimisation, is recovered by plane and parallax.
   bool degeneracy_recovery = true;
   uint64_t seed = kDefaultSeed;
 

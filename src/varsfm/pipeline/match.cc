@@ -108,7 +108,9 @@ std::string MatchSettings(const MatchOptions& options) {
   settings["max_distance"] = options.matching.max_distance;
   settings["cross_check"] = options.matching.cross_check;
   const VerificationOptions& verification = options.verification;
-  settings["method"] = static_cast<int>(verification.method);
+  // By name: pairs a workspace recorded as verified by another estimator, or by an estimator
+  // recorded by its number as earlier versions did, are verified again.
+  settings["method"] = NameOf(kRansacMethodNames, verification.method);
   settings["max_error"] = verification.max_error;
   settings["homography_max_error"] = verification.homography_max_error;
   settings["min_num_inliers"] = verification.min_num_inliers;
@@ -119,9 +121,7 @@ std::string MatchSettings(const MatchOptions& options) {
     settings["mean_neighbours"] = verification.mean_neighbours;
     settings["spatial_coherence"] = verification.spatial_coherence;
   }
-  if (verification.method == RansacMethod::kLoRansac ||
-      verification.method == RansacMethod::kGraphCut)
-    settings["degeneracy_recovery"] = verification.degeneracy_recovery;
+  settings["degeneracy_recovery"] = verification.degeneracy_recovery;
   settings["seed"] = options.seed;  // verification.seed is derived from it per pair
   return settings.dump();
 }
