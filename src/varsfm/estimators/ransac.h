@@ -197,10 +197,6 @@ inline int RequiredIterations(size_t num_inliers, size_t num_data, int sample_si
   return std::max(min_iterations, static_cast<int>(std::ceil(n)));
 }
 
-}  // namespace ransac_internal
-
-namespace ransac_internal {
-
 // One Ransac() run's state: the best model so far, and the steps that improve it.
 template <typename Estimator>
 class Search {
