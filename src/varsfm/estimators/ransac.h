@@ -229,7 +229,7 @@ class Search {
     estimator_.MinimalSolve(sample_, &candidates_);
     bool improved = false;
     for (const Model& model : candidates_) {
-      const Score score = Evaluate(estimator_, model, threshold2_, options_.msac_score, best_.cost);
+      const Score score = ScoreOf(model);
       if (!(score.cost < best_.cost)) continue;
       // A new best from a degenerate sample (DEGENSAC: five of F's seven points on one plane)
       // is not taken itself: it fits the plane and whatever off-plane data the rest of its
@@ -247,8 +247,7 @@ class Search {
           }
         }
       }
-      best_ = score;
-      best_model_ = model;
+      Keep(score, model);
       improved = true;
     }
     return improved;
@@ -300,11 +299,21 @@ class Search {
   }
 
  private:
-  bool Consider(const Model& model) {
-    const Score score = Evaluate(estimator_, model, threshold2_, options_.msac_score, best_.cost);
-    if (!(score.cost < best_.cost)) return false;
+  // The model's score, or an infinite cost once it is sure to be worse than the best so far.
+  Score ScoreOf(const Model& model) const {
+    return Evaluate(estimator_, model, threshold2_, options_.msac_score, best_.cost);
+  }
+
+  void Keep(const Score& score, const Model& model) {
     best_ = score;
     best_model_ = model;
+  }
+
+  // Keeps `model` when it scores better than the best so far.
+  bool Consider(const Model& model) {
+    const Score score = ScoreOf(model);
+    if (!(score.cost < best_.cost)) return false;
+    Keep(score, model);
     return true;
   }
 

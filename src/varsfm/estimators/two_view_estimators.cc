@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <random>
 
@@ -43,10 +44,13 @@ void TwoViewEstimator<kModel>::MinimalSolve(const std::vector<int>& sample,
     // Solutions that would put part of their own sample behind the cameras are no epipolar
     // geometry of the scene (SatisfiesOrientedEpipolarConstraint): dropped before they are
     // scored, as OpenCV's USAC drops them.
-    std::vector<Model> candidates;
-    Fundamental7pt(y1, y2, &candidates);
-    for (const Model& F : candidates)
-      if (SatisfiesOrientedEpipolarConstraint(F, y1, y2)) models->push_back(F);
+    const auto first = static_cast<std::ptrdiff_t>(models->size());
+    Fundamental7pt(y1, y2, models);
+    models->erase(std::remove_if(models->begin() + first, models->end(),
+                                 [&](const Model& F) {
+                                   return !SatisfiesOrientedEpipolarConstraint(F, y1, y2);
+                                 }),
+                  models->end());
   } else {
     Essential5pt(y1, y2, models);
   }

@@ -61,7 +61,8 @@ bool SatisfiesOrientedEpipolarConstraint(const Eigen::Matrix3d& F,
                                          const std::vector<Eigen::Vector2d>& x2) {
   // e2 spans F's left null space (F^T e2 = 0): it is orthogonal to F's columns, so the cross
   // product of two of them, the pair with the largest product for a rank-2 F that is nearly
-  // rank 1 in one pair.
+  // rank 1 in one pair. Not Epipoles' SVD: RANSAC tests every seven-point model (exactly rank 2)
+  // here, and the test needs e2's direction only, not its scale or sign.
   Eigen::Vector3d e2 = F.col(0).cross(F.col(1));
   for (const Eigen::Vector3d& c : {F.col(0).cross(F.col(2)), F.col(1).cross(F.col(2))})
     if (c.squaredNorm() > e2.squaredNorm()) e2 = c;

@@ -8,12 +8,6 @@
 namespace varsfm {
 namespace {
 
-struct RobustFit {
-  Eigen::Matrix3d model = Eigen::Matrix3d::Zero();
-  std::vector<char> inlier_mask;
-  int num_inliers = 0;
-};
-
 // A pair's matched keypoints, with, for graph-cut RANSAC, the neighbourhood it smooths over
 // (built once for F and H).
 struct MatchedPoints {
@@ -22,9 +16,9 @@ struct MatchedPoints {
 };
 
 // F or H by the project's RANSAC, with the local optimisation the method names and, for F,
-// DEGENSAC unless options say otherwise.
-RobustFit Fit(const MatchedPoints& points, bool homography, const VerificationOptions& options,
-              uint64_t seed) {
+// DEGENSAC unless options say otherwise. A failed fit has no inliers and a zero model.
+RansacReport<Eigen::Matrix3d> Fit(const MatchedPoints& points, bool homography,
+                                  const VerificationOptions& options, uint64_t seed) {
   RansacOptions ransac;
   ransac.max_error = homography ? options.homography_max_error : options.max_error;
   ransac.confidence = options.confidence;
@@ -35,15 +29,11 @@ RobustFit Fit(const MatchedPoints& points, bool homography, const VerificationOp
   ransac.seed = seed;
   const NeighbourhoodGraph* graph =
       options.method == RansacMethod::kGraphCut ? &points.neighbourhood : nullptr;
-  const RansacReport<Eigen::Matrix3d> report =
+  RansacReport<Eigen::Matrix3d> report =
       homography ? EstimateHomography(points.x1, points.x2, ransac, graph)
                  : EstimateFundamentalMatrix(points.x1, points.x2, ransac, graph);
-  RobustFit fit;
-  if (!report.success) return fit;
-  fit.model = report.model;
-  fit.inlier_mask = report.inlier_mask;
-  fit.num_inliers = static_cast<int>(report.num_inliers);
-  return fit;
+  if (!report.success) report.model.setZero();
+  return report;
 }
 
 }  // namespace
@@ -74,13 +64,13 @@ TwoViewGeometry VerifyTwoViewGeometry(const FeatureKeypoints& keypoints1,
     points.neighbourhood =
         CorrespondenceNeighbourhood(points.x1, points.x2, options.mean_neighbours);
   // Different streams for F and H, both fixed by the caller's seed.
-  const RobustFit f = Fit(points, false, options, DeriveSeed(options.seed, 0));
-  if (f.num_inliers < options.min_num_inliers) return geometry;
-  const RobustFit h = Fit(points, true, options, DeriveSeed(options.seed, 1));
+  const RansacReport<Eigen::Matrix3d> f = Fit(points, false, options, DeriveSeed(options.seed, 0));
+  if (f.num_inliers < static_cast<size_t>(options.min_num_inliers)) return geometry;
+  const RansacReport<Eigen::Matrix3d> h = Fit(points, true, options, DeriveSeed(options.seed, 1));
 
   geometry.F = f.model;
   geometry.H = h.model;
-  const RobustFit& best = h.num_inliers > f.num_inliers ? h : f;
+  const RansacReport<Eigen::Matrix3d>& best = h.num_inliers > f.num_inliers ? h : f;
   const double h_f_ratio = static_cast<double>(h.num_inliers) / f.num_inliers;
   geometry.config = h_f_ratio > options.max_H_inlier_ratio ? TwoViewGeometry::kPlanarOrPanoramic
                                                            : TwoViewGeometry::kUncalibrated;

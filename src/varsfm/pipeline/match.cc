@@ -117,7 +117,7 @@ std::string MatchSettings(const MatchOptions& options) {
   settings["confidence"] = verification.confidence;
   settings["max_num_trials"] = verification.max_num_trials;
   settings["max_H_inlier_ratio"] = verification.max_H_inlier_ratio;
-  if (verification.method == RansacMethod::kGraphCut) {  // only then: older records stay valid
+  if (verification.method == RansacMethod::kGraphCut) {  // the only method they change
     settings["mean_neighbours"] = verification.mean_neighbours;
     settings["spatial_coherence"] = verification.spatial_coherence;
   }
