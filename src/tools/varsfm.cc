@@ -463,6 +463,9 @@ void AddMeshCommand(CLI::App* app) {
   cmd->add_option("--sparse", options->sparse,
                   "delaunay: the sparse model whose cameras see the points of INPUT.vis "
                   "(default: INPUT's folder/sparse)");
+  AddWithDefault(cmd, "--holdout", options->holdout,
+                 "delaunay: every N-th registered image (by name) does not judge the long faces, "
+                 "as densify --holdout N left it out (0: none)");
   AddChoice(cmd, "--method", &options->surface.method, ChoicesOf(varsfm::kSurfaceMethodNames),
             "visibility-based Delaunay graph cut, screened Poisson, or advancing front");
   AddWithDefault(cmd, "--max-depth", options->surface.max_depth,

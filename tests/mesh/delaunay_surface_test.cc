@@ -16,6 +16,7 @@
 #include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -220,6 +221,17 @@ TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
   EXPECT_EQ(ReadSurfaceInput(ply, SurfaceMethod::kDelaunay, dir.path() / "sparse" / "0")
                 .cloud.visibility.size(),
             seen.points.size());
+  // The held-out views (every N-th registered image by name, as densify and texture leave them
+  // out) do not judge the long faces.
+  const SurfaceInput held = ReadSurfaceInput(ply, SurfaceMethod::kDelaunay, {}, 2);
+  const std::vector<image_t> held_out = HeldOutImageIds(model, 2);
+  ASSERT_FALSE(held_out.empty());
+  EXPECT_EQ(held.views.size() + held_out.size(), model.NumRegisteredImages());
+  for (const PosedCamera& view : held.views)
+    for (const image_t id : held_out)
+      EXPECT_GT((view.cam_from_world.Center() - model.image(id).cam_from_world.Center()).norm(),
+                1e-9);
+  EXPECT_EQ(held.cloud.visibility, seen.visibility);
   PointCloud other = bare;
   ids[0].push_back(99);  // no such image
   EXPECT_THROW(AttachVisibility(ids, model, &other), Error);

@@ -74,7 +74,7 @@ void JudgeView(const LongFaceOptions& options, const PosedCamera& view,
       stack.pop_back();
       pixels.push_back(p);
       const int x = static_cast<int>(p % width), y = static_cast<int>(p / width);
-      for (const auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
         const int u = x + dx, v = y + dy;
         if (u < 0 || v < 0 || u >= width || v >= height) continue;
         const size_t q = at(u, v);

@@ -1,9 +1,11 @@
 #include "varsfm/mesh/surface_input.h"
 
+#include <algorithm>
 #include <map>
 
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -49,7 +51,7 @@ void AttachVisibility(const PointVisibility& visibility, const Reconstruction& m
 }
 
 SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                              const std::filesystem::path& sparse) {
+                              const std::filesystem::path& sparse, int holdout) {
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
   SurfaceInput input;
   PointCloud& cloud = input.cloud;
@@ -72,8 +74,10 @@ SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod m
   if (cloud.HasVisibility() && !std::filesystem::exists(model_dir)) return input;
   const Reconstruction model = ReadColmapModel(model_dir);
   if (!cloud.HasVisibility()) ReadVisibilityBeside(file, model_dir, model, &cloud);
+  const std::vector<image_t> held_out = HeldOutImageIds(model, holdout);
   for (const auto& [id, image] : model.images())
-    if (image.registered) input.views.push_back({model.CameraOf(id), image.cam_from_world});
+    if (image.registered && std::find(held_out.begin(), held_out.end(), id) == held_out.end())
+      input.views.push_back({model.CameraOf(id), image.cam_from_world});
   return input;
 }
 

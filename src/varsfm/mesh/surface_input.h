@@ -32,8 +32,10 @@ struct SurfaceInput {
 // empty, or lacks the normals (Poisson) or visibility (Delaunay) that `method` needs. For the
 // Delaunay surface, the model in `sparse` (a model folder or its parent, io/colmap_model.h; an
 // empty `sparse` means `file`'s folder/sparse, where `varsfm run` writes it) gives the views,
-// and a PLY without its own visibility takes `file`.vis with that model's camera centres.
+// and a PLY without its own visibility takes `file`.vis with that model's camera centres. The
+// views leave out the model's held-out images (every `holdout`-th, scene/holdout.h; 0: none),
+// as densification and texturing do.
 SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                              const std::filesystem::path& sparse = {});
+                              const std::filesystem::path& sparse = {}, int holdout = 0);
 
 }  // namespace varsfm

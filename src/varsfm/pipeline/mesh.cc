@@ -5,6 +5,7 @@
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/pipeline/output_folder.h"
+#include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/path_lock.h"
@@ -12,14 +13,17 @@
 
 namespace varsfm {
 
-void MeshOptions::Check() const { surface.Check(); }
+void MeshOptions::Check() const {
+  CheckHoldout(holdout);
+  surface.Check();
+}
 
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   OutputFolderLock output_lock(options.output);
   Timer timer;
   const SurfaceInput input =
-      ReadSurfaceInput(options.input, options.surface.method, options.sparse);
+      ReadSurfaceInput(options.input, options.surface.method, options.sparse, options.holdout);
   MeshSummary result;
   TriangleMesh mesh;
   try {

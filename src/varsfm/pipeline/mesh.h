@@ -19,6 +19,9 @@ struct MeshOptions {
   // of the visibility beside the cloud (INPUT.vis), which the Delaunay surface needs when the
   // PLY holds none (surface_input.h). Empty: INPUT's folder/sparse.
   std::filesystem::path sparse;
+  // Every N-th registered image (scene/holdout.h) is not one of the views that judge the long
+  // faces (0: none): what densify and texture held out, mesh leaves out too.
+  int holdout = 0;
   SurfaceOptions surface;
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage

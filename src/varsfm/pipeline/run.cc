@@ -154,6 +154,7 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
     mesh.input = options.output / "dense.ply";
     mesh.output = options.output;
     mesh.sparse = options.output / "sparse" / "0";
+    mesh.holdout = options.holdout;
     mesh.surface = options.surface;
     const MeshSummary meshed = RunMesh(mesh, OptionsCheck::kDoneByCaller);
     result.seconds_mesh = meshed.seconds;
