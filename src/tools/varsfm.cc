@@ -50,6 +50,10 @@ constexpr const char* kTextureMaxImageSizeHelp =
     "photos larger than this (longer side, px) are textured from a copy of this size, which "
     "bounds the atlas and the glb (0: full resolution)";
 
+constexpr const char* kKeepEnclosedLongFacesHelp =
+    "keep the long faces that fill a hole the views see enclosed by the surface (closes holes "
+    "in weakly textured objects; their texture is poor)";
+
 constexpr int kUsageError = 2;
 
 // The names an option takes for the values of an enum.
@@ -388,6 +392,8 @@ void AddRunCommand(CLI::App* app) {
             "front");
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
                  "mesh stage: decimate to at most this many faces (0: keep all)");
+  cmd->add_flag("--keep-enclosed-long-faces", options->surface.delaunay.long_faces.keep_enclosed,
+                std::string("mesh stage (delaunay): ") + kKeepEnclosedLongFacesHelp);
   AddWithDefault(cmd, "--texture-max-image-size", options->texture.max_image_size,
                  std::string("texture stage: ") + kTextureMaxImageSizeHelp);
   AddMapperOptions(cmd, &options->map);
@@ -482,8 +488,7 @@ void AddMeshCommand(CLI::App* app) {
   AddWithDefault(cmd, "--max-edge-factor", delaunay.long_faces.max_edge_factor,
                  "delaunay: drop faces with an edge above this x the median edge (0: keep)");
   cmd->add_flag("--keep-enclosed-long-faces", delaunay.long_faces.keep_enclosed,
-                "delaunay: keep the long faces that fill a hole the views see enclosed by the "
-                "surface (closes holes in weakly textured objects; their texture is poor)");
+                std::string("delaunay: ") + kKeepEnclosedLongFacesHelp);
   AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
                  "delaunay: close boundary loops of at most this many edges (0: none)");
   AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,

@@ -132,7 +132,8 @@ TEST(OptionsCheck, Densify) {
 
 TEST(OptionsCheck, Mesh) {
   ExpectEachRejected<MeshOptions>(
-      {}, {{"--max-points", [](auto& o) { o.surface.max_points = 0; }},
+      {}, {{"--holdout", [](auto& o) { o.holdout = 1; }},
+           {"--max-points", [](auto& o) { o.surface.max_points = 0; }},
            {"--trim", [](auto& o) { o.surface.trim_factor = kNan; }},
            {"--trim", [](auto& o) { o.surface.trim_factor = -1; }},
            {"cell_spacing", [](auto& o) { o.surface.cell_spacing = kInf; }},
