@@ -163,6 +163,43 @@ TEST(IncrementalMapper, SameSeedSameModelBitForBit) {
   }
 }
 
+// The last image keeps 14 of its points, one short of min_inliers: only the second try at the
+// relaxed thresholds (ImageRegistrationOptions::Relaxed) registers it, and near its true place.
+TEST(IncrementalMapper, AWeaklyLinkedImageJoinsAtTheRelaxedThresholds) {
+  SyntheticOptions o = ZoomingOrbit();
+  o.num_images = 8;
+  SyntheticScene scene = GenerateSyntheticScene(o);
+  std::vector<SyntheticObservation>& weak = scene.observations.back();
+  std::vector<SyntheticObservation> kept;
+  const size_t step = weak.size() / 14;
+  for (size_t k = 0; k < 14; ++k) kept.push_back(weak[k * step]);
+  weak = kept;
+  const image_t weak_id = static_cast<image_t>(scene.NumImages());
+  for (const int relaxed_min_inliers : {0, 10}) {
+    SCOPED_TRACE(relaxed_min_inliers);
+    MapperInput in = MakeInput(scene);
+    IncrementalMapperOptions options;
+    options.registration.relaxed_min_inliers = relaxed_min_inliers;
+    const MapperSummary summary =
+        IncrementalMapper(in.graph, {}, options).Reconstruct(&in.reconstruction);
+    ASSERT_TRUE(summary.success) << summary.message;
+    const Reconstruction& rec = in.reconstruction;
+    EXPECT_EQ(rec.NumRegisteredImages(),
+              static_cast<size_t>(scene.NumImages()) - (relaxed_min_inliers == 0 ? 1 : 0));
+    EXPECT_EQ(summary.num_relaxed_registrations, relaxed_min_inliers == 0 ? 0u : 1u);
+    if (relaxed_min_inliers == 0) continue;
+    ASSERT_TRUE(rec.image(weak_id).registered);
+    std::vector<Eigen::Vector3d> estimated, truth;
+    for (int i = 0; i < scene.NumImages(); ++i) {
+      estimated.push_back(rec.image(i + 1).Center());
+      truth.push_back(scene.poses[i].Center());
+    }
+    const AlignmentResult alignment = AlignSimilarity(estimated, truth);
+    ASSERT_TRUE(alignment.success);
+    EXPECT_LT((alignment.sim * estimated.back() - truth.back()).norm(), 0.02 * o.orbit_radius);
+  }
+}
+
 // Every optical axis through (nearly) one point, as in entry-P10: the initial pair is degenerate
 // for self-calibration and its focal lengths start from the prior, here 1.54x the true 800 px.
 // A third view chooses the pair's focal length (SelectDegenerateFocal); the model grown from it

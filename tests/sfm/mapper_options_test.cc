@@ -44,6 +44,10 @@ TEST(MapperOptions, RegistrationRefusesBadValues) {
   ExpectEachRejected<O>(
       {{"--min-correspondences", [](O& o) { o.min_correspondences = 5; }},
        {"min_registration_inliers", [](O& o) { o.min_inliers = 2; }},
+       {"registration.min_inlier_ratio", [](O& o) { o.min_inlier_ratio = 1.5; }},
+       {"registration.relaxed_min_inliers", [](O& o) { o.relaxed_min_inliers = 5; }},
+       {"registration.relaxed_min_inliers", [](O& o) { o.relaxed_min_inliers = 16; }},
+       {"registration.relaxed_min_inlier_ratio", [](O& o) { o.relaxed_min_inlier_ratio = kNan; }},
        {"registration_max_error_px", [](O& o) { o.max_error_px = kNan; }},
        {"registration_max_error_px", [](O& o) { o.max_error_px = 0; }},
        {"registration.refinement_gate_factor", [](O& o) { o.refinement_gate_factor = 0.5; }},

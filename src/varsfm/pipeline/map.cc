@@ -320,6 +320,7 @@ MapSummary RunMapping(const MapOptions& options, OptionsCheck check) {
   summary["global_bundle_adjustments"] = mapper.num_global_ba;
   summary["global_bundle_adjustment_iterations"] = mapper.num_global_ba_iterations;
   summary["two_view_points_removed"] = mapper.num_two_view_points_removed;
+  summary["relaxed_registrations"] = mapper.num_relaxed_registrations;
   // Where the photos are, so that later commands (export) need not be told again.
   if (!options.image_dir.empty())
     summary["image_dir"] = std::filesystem::absolute(options.image_dir).string();

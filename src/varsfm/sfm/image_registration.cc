@@ -18,6 +18,10 @@ namespace varsfm {
 void ImageRegistrationOptions::Check() const {
   CheckAtLeast("--min-correspondences", min_correspondences, 6);
   CheckAtLeast("min_registration_inliers", min_inliers, 6);
+  CheckFraction("registration.min_inlier_ratio", min_inlier_ratio);
+  if (relaxed_min_inliers != 0)
+    CheckInRange("registration.relaxed_min_inliers", relaxed_min_inliers, 6, min_inliers);
+  CheckFraction("registration.relaxed_min_inlier_ratio", relaxed_min_inlier_ratio);
   CheckPositive("registration_max_error_px", max_error_px);
   CheckAtLeast("registration.refinement_gate_factor", refinement_gate_factor, 1);
   CheckAtLeast("registration.pnp_max_iterations", pnp_max_iterations, 1);
@@ -241,7 +245,9 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
   const Hypothesis& chosen = *std::max_element(
       hypotheses.begin(), hypotheses.end(),
       [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
-  if (chosen.inliers < static_cast<size_t>(options.min_inliers)) return false;
+  if (chosen.inliers < static_cast<size_t>(options.min_inliers) ||
+      chosen.inliers < options.min_inlier_ratio * corrs.size())
+    return false;
   const double size = std::max(camera.width, camera.height);
   if (chosen.camera.focal() < options.min_focal_factor * size ||
       chosen.camera.focal() > options.max_focal_factor * size)

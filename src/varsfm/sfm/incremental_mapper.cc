@@ -126,13 +126,20 @@ void IncrementalMapper::RegisterAll(Reconstruction* rec, MapperSummary* summary)
   double progress_rms = -1.0;
   VisiblePointCounts counts(graph_);
   const ObservedReconstruction observed(rec, &counts);
+  const ImageRegistrationOptions relaxed_options = options_.registration.Relaxed();
+  bool relaxed = false;  // this pass over the candidates is at the relaxed thresholds
   while (true) {
     bool registered_any = false;
     for (const image_t image_id : NextImageCandidates(*rec, counts)) {
       Timer reg_timer;
-      const bool ok = RegisterImage(rec, image_id);
+      const bool ok =
+          RegisterImage(rec, image_id, relaxed ? relaxed_options : options_.registration);
       summary->seconds_registration += reg_timer.Seconds();
       if (!ok) continue;
+      if (relaxed) {
+        ++summary->num_relaxed_registrations;
+        debug("image {} registered at the relaxed thresholds", image_id);
+      }
       registration_order_.push_back(image_id);
       Timer tri_timer;
       TriangulateImage(graph_, options_.triangulation, image_id, rec);
@@ -167,7 +174,12 @@ void IncrementalMapper::RegisterAll(Reconstruction* rec, MapperSummary* summary)
       registered_any = true;
       break;  // candidates change with every registration
     }
-    if (!registered_any) break;
+    if (registered_any) {
+      relaxed = false;
+      continue;
+    }
+    if (relaxed || options_.registration.relaxed_min_inliers == 0) break;
+    relaxed = true;
   }
 }
 
@@ -360,7 +372,7 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
     MapperSummary ignored;
     if (!Initialize(&trial, pair, geometry, /*accept_degenerate=*/true, &ignored,
                     std::exp(log_scale), /*adjust=*/false) ||
-        !RegisterImage(&trial, probe))
+        !RegisterImage(&trial, probe, options_.registration))
       return std::numeric_limits<double>::infinity();
     return TruncatedRegistrationError(trial, probe);
   };
@@ -409,9 +421,10 @@ void IncrementalMapper::SelectDegenerateFocal(const Reconstruction& empty,
   registration_order_ = {pair.image_id1, pair.image_id2};
 }
 
-bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id) {
-  if (!varsfm::RegisterImage(graph_, options_.registration, options_.intrinsics,
-                             registration_order_, options_.seed, image_id, rec))
+bool IncrementalMapper::RegisterImage(Reconstruction* rec, image_t image_id,
+                                      const ImageRegistrationOptions& options) {
+  if (!varsfm::RegisterImage(graph_, options, options_.intrinsics, registration_order_,
+                             options_.seed, image_id, rec))
     return false;
   ExtendFrontier(image_id);
   return true;

@@ -92,6 +92,7 @@ struct MapperSummary {
   size_t num_global_ba = 0;
   size_t num_global_ba_iterations = 0;     // of all global adjustments together
   size_t num_two_view_points_removed = 0;  // by the filter after the final adjustment
+  size_t num_relaxed_registrations = 0;    // images registered at the relaxed thresholds
   double seconds_initialization = 0;
   double seconds_registration = 0;
   double seconds_triangulation = 0;
@@ -136,13 +137,16 @@ class IncrementalMapper {
   // Chooses and initialises the initial pair (the first candidate whose self-calibration is not
   // degenerate, else the best degenerate one); on failure says why in summary->message.
   bool InitializeModel(Reconstruction* rec, MapperSummary* summary);
-  // Registers the image (image_registration.h) and adds its neighbours to frontier_.
-  bool RegisterImage(Reconstruction* rec, image_t image_id);
+  // Registers the image (image_registration.h) with `options` (the mapper's, or their Relaxed())
+  // and adds its neighbours to frontier_.
+  bool RegisterImage(Reconstruction* rec, image_t image_id,
+                     const ImageRegistrationOptions& options);
   // Mean truncated squared reprojection error (px^2) of the 2D-3D correspondences of registered
   // image `probe` (MSAC's cost), infinity when it has none.
   double TruncatedRegistrationError(const Reconstruction& rec, image_t probe) const;
   // Registers the next images one by one, each followed by the adjustment the schedule says;
-  // failed ones are retried after later successes.
+  // failed ones are retried after later successes. When none registers, the candidates are
+  // tried once more at the relaxed thresholds (ImageRegistrationOptions::Relaxed).
   void RegisterAll(Reconstruction* rec, MapperSummary* summary);
   // The unregistered images of the frontier that see enough reconstructed points, best first.
   std::vector<image_t> NextImageCandidates(const Reconstruction& rec,
