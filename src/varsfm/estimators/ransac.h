@@ -237,15 +237,9 @@ class Search {
       // plane and the parallax of the other data compete (Chum, Werner & Matas, "Two-view
       // geometry estimation unaffected by a dominant plane", CVPR 2005; OpenCV's USAC does the
       // same).
-      if constexpr (kRecovers) {
-        if (options_.degeneracy_recovery) {
-          models_.clear();
-          estimator_.DegeneracyModels(sample_, model, options_, &rng_, &models_);
-          if (!models_.empty()) {
-            for (const Model& recovered : models_) improved |= Consider(recovered);
-            continue;
-          }
-        }
+      if (kRecovers && options_.degeneracy_recovery) {
+        improved |= Recover(model);
+        if (!models_.empty()) continue;
       }
       Keep(score, model);
       improved = true;
@@ -269,7 +263,7 @@ class Search {
          ++trial) {
       ShuffleFront(kSample, &inliers_, &rng_);
       sample_.assign(inliers_.begin(), inliers_.begin() + kSample);
-      const bool improved = Recover();
+      const bool improved = Recover(best_model_);
       if (models_.empty()) continue;  // the model passed the test on this sample
       if (improved) Optimize();
       break;
@@ -288,13 +282,10 @@ class Search {
     report.success = true;
     report.model = best_model_;
     report.iterations = iterations;
+    Inliers(estimator_, best_model_, threshold2_, &inliers_);
     report.inlier_mask.assign(estimator_.NumData(), 0);
-    for (size_t i = 0; i < estimator_.NumData(); ++i) {
-      if (estimator_.SquaredResidual(best_model_, i) < threshold2_) {
-        report.inlier_mask[i] = 1;
-        ++report.num_inliers;
-      }
-    }
+    for (const int i : inliers_) report.inlier_mask[i] = 1;
+    report.num_inliers = inliers_.size();
     return report;
   }
 
@@ -359,13 +350,13 @@ class Search {
     }
   }
 
-  // Recovery of the best model from sample_, a minimal sample of its inliers, should the sample
-  // be degenerate: the estimator's recovered models are left in models_ (none when it found the
-  // sample sound); true when one of them scored better.
-  bool Recover() {
+  // Recovery of `model`, a model of the minimal sample sample_, should the sample be degenerate:
+  // the estimator's recovered models are left in models_ (none when it found the sample sound);
+  // true when one of them scored better (and became the best). `model` is read before any is
+  // scored, so it may be best_model_ itself.
+  bool Recover(const Model& model) {
     models_.clear();
-    if constexpr (kRecovers)
-      estimator_.DegeneracyModels(sample_, best_model_, options_, &rng_, &models_);
+    if constexpr (kRecovers) estimator_.DegeneracyModels(sample_, model, options_, &rng_, &models_);
     bool improved = false;
     for (const Model& model : models_) improved |= Consider(model);
     return improved;

@@ -1,6 +1,5 @@
 #include "varsfm/mesh/surface_input.h"
 
-#include <algorithm>
 #include <map>
 
 #include "varsfm/io/colmap_model.h"
@@ -72,12 +71,11 @@ SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod m
   // A cloud with its own visibility (match propagation's) needs no model: without one beside it,
   // every long face goes.
   if (cloud.HasVisibility() && !std::filesystem::exists(model_dir)) return input;
-  const Reconstruction model = ReadColmapModel(model_dir);
+  Reconstruction model = ReadColmapModel(model_dir);
   if (!cloud.HasVisibility()) ReadVisibilityBeside(file, model_dir, model, &cloud);
-  const std::vector<image_t> held_out = HeldOutImageIds(model, holdout);
+  HoldOutImages(&model, holdout);  // once the visibility (any registered image) is attached
   for (const auto& [id, image] : model.images())
-    if (image.registered && std::find(held_out.begin(), held_out.end(), id) == held_out.end())
-      input.views.push_back({model.CameraOf(id), image.cam_from_world});
+    if (image.registered) input.views.push_back({model.CameraOf(id), image.cam_from_world});
   return input;
 }
 

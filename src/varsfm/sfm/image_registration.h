@@ -24,10 +24,7 @@ struct ImageRegistrationOptions {
   // accepting relaxed_min_inliers (still >= n0) where they are at least relaxed_min_inlier_ratio
   // of the image's correspondences, then goes on as before. A part of the capture tied to the
   // model by a few matches (small photos, a gap in the walk) then joins it rather than making a
-  // model of its own: ET's photos at 320 x 240 (652 features each) gave two models, linked by 22
-  // and 15 verified matches; with the second try one, within 0.017 (centres) and 1.6 deg of the
-  // model of the 640 x 480 photos (bench/results/2026-12-05-s21-relaxed-registration.md).
-  // 0: no second try.
+  // model of its own (bench/results/2026-12-05-s21-relaxed-registration.md). 0: no second try.
   int relaxed_min_inliers = 10;
   double relaxed_min_inlier_ratio = 0.6;
   // RANSAC's inlier threshold, and the largest error of an observation the new image adds.
