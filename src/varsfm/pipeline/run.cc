@@ -132,6 +132,18 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
   const size_t num_models = 1 + result.map.more_models.size();
   info("run: wrote {}/sparse/{} (COLMAP text + binary), sparse.ply, bundle.out, summary.json",
        options.output.string(), num_models > 1 ? fmt::format("0 .. {}", num_models - 1) : "0");
+  if (num_models > 1 && runs(RunStage::kDense)) {
+    size_t others = 0;
+    for (const MapperModel& model : result.map.more_models)
+      others += model.reconstruction.NumRegisteredImages();
+    warn(
+        "run: {} models: the dense cloud, mesh and textured model are made from model 0 ({} "
+        "images), not from the {} images of {} (densify, mesh and texture take --sparse "
+        "{}/sparse/K for model K)",
+        num_models, result.map.reconstruction.NumRegisteredImages(), others,
+        num_models == 2 ? "model 1" : fmt::format("models 1 .. {}", num_models - 1),
+        options.output.string());
+  }
 
   // Dense cloud, surface and texture, each stage's time added to the summary as it ends.
   const auto add_seconds = [&](const char* stage, double seconds) {
