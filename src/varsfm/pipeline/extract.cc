@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "varsfm/camera/colmap_models.h"
+#include "varsfm/feature/mat_buffer_pool.h"
 #include "varsfm/image/image_io.h"
 #include "varsfm/image/image_list.h"
 #include "varsfm/io/database.h"
@@ -353,6 +354,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   // (deterministic ids), with a bounded number in flight to bound memory.
   const int threads = options.threads > 0 ? options.threads : tbb::task_arena::automatic;
   tbb::task_arena arena(threads);
+  const ScopedMatBufferPool scale_space_buffers;
   try {
     arena.execute([&] {
       const size_t tokens = 2 * static_cast<size_t>(arena.max_concurrency());

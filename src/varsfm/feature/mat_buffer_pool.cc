@@ -1,0 +1,117 @@
+#include "varsfm/feature/mat_buffer_pool.h"
+
+#include <map>
+#include <mutex>
+
+#include <opencv2/core/core_c.h>  // CV_AUTOSTEP
+#include <opencv2/core.hpp>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// cv::Mat's allocator as OpenCV's own (StdMatAllocator, modules/core/src/matrix.cpp), its large
+// buffers taken from and given back to a pool while one is active. The object lives as long as
+// the program: a matrix allocated while a pool was active may be freed after it ended.
+class PooledMatAllocator final : public cv::MatAllocator {
+ public:
+  cv::UMatData* allocate(int dims, const int* sizes, int type, void* data0, size_t* step,
+                         cv::AccessFlag, cv::UMatUsageFlags) const override {
+    size_t total = CV_ELEM_SIZE(type);
+    for (int i = dims - 1; i >= 0; --i) {
+      if (step) {
+        if (data0 && step[i] != CV_AUTOSTEP) {
+          CV_Assert(total <= step[i]);
+          total = step[i];
+        } else {
+          step[i] = total;
+        }
+      }
+      total *= sizes[i];
+    }
+    auto* u = new cv::UMatData(this);
+    u->data = u->origdata = data0 ? static_cast<uchar*>(data0) : Take(total);
+    u->size = total;
+    if (data0) u->flags |= cv::UMatData::USER_ALLOCATED;
+    return u;
+  }
+
+  bool allocate(cv::UMatData* u, cv::AccessFlag, cv::UMatUsageFlags) const override {
+    return u != nullptr;
+  }
+
+  void deallocate(cv::UMatData* u) const override {
+    if (!u) return;
+    CV_Assert(u->urefcount == 0 && u->refcount == 0);
+    if (!(u->flags & cv::UMatData::USER_ALLOCATED)) Give(u->origdata, u->size);
+    delete u;
+  }
+
+  void Activate(size_t min_bytes) {
+    std::lock_guard lock(mutex_);
+    if (active_) Fail("ScopedMatBufferPool: one pool at a time");
+    active_ = true;
+    min_bytes_ = min_bytes;
+  }
+
+  // Frees the pooled blocks; buffers in use are freed when their matrices are.
+  void Deactivate() {
+    std::lock_guard lock(mutex_);
+    for (const auto& [bytes, block] : free_) cv::fastFree(block);
+    free_.clear();
+    active_ = false;
+  }
+
+ private:
+  uchar* Take(size_t bytes) const {
+    {
+      std::lock_guard lock(mutex_);
+      if (active_ && bytes >= min_bytes_) {
+        const auto it = free_.find(bytes);
+        if (it != free_.end()) {
+          uchar* block = static_cast<uchar*>(it->second);
+          free_.erase(it);
+          return block;
+        }
+      }
+    }
+    return static_cast<uchar*>(cv::fastMalloc(bytes));
+  }
+
+  void Give(uchar* block, size_t bytes) const {
+    {
+      std::lock_guard lock(mutex_);
+      if (active_ && bytes >= min_bytes_) {
+        free_.emplace(bytes, block);
+        return;
+      }
+    }
+    cv::fastFree(block);
+  }
+
+  mutable std::mutex mutex_;
+  mutable std::multimap<size_t, void*> free_;  // by size: a scale space asks the same sizes again
+  bool active_ = false;
+  size_t min_bytes_ = 0;
+};
+
+PooledMatAllocator& Allocator() {
+  static auto* allocator = new PooledMatAllocator;  // never destroyed (see above)
+  return *allocator;
+}
+
+}  // namespace
+
+ScopedMatBufferPool::ScopedMatBufferPool(size_t min_bytes)
+    : previous_(cv::Mat::getDefaultAllocator()) {
+  Allocator().Activate(min_bytes);
+  cv::Mat::setDefaultAllocator(&Allocator());
+}
+
+ScopedMatBufferPool::~ScopedMatBufferPool() {
+  cv::Mat::setDefaultAllocator(previous_);
+  Allocator().Deactivate();
+}
+
+}  // namespace varsfm
