@@ -45,6 +45,12 @@ namespace {
 constexpr const char* kMaxFeaturesHelp =
     "strongest keypoint locations kept (a location with two orientations gives two features)";
 
+// extract's --memory-mb and run's --extract-memory-mb.
+constexpr const char* kExtractMemoryHelp =
+    "SIFT scale spaces in memory at once stay within this (MB; about 1.6 GB a 6-megapixel "
+    "photo): fewer photos are extracted at once where one per thread would not fit (0: half "
+    "the machine's memory)";
+
 // texture's and run's.
 constexpr const char* kTextureMaxImageSizeHelp =
     "photos larger than this (longer side, px) are textured from a copy of this size, which "
@@ -305,6 +311,7 @@ void AddExtractCommand(CLI::App* app) {
       cmd, "--max-frames", options->keyframes.max_frames,
       "at most this many video keyframes, subsampled evenly (0: as many as the motion needs)");
   AddWithDefault(cmd, "--threads", options->threads, "worker threads (0: all cores)");
+  AddWithDefault(cmd, "--memory-mb", options->memory_mb, kExtractMemoryHelp);
   cmd->callback([options] { varsfm::RunExtraction(*options); });
 }
 
@@ -381,6 +388,7 @@ void AddRunCommand(CLI::App* app) {
                         "exhaustive",
                         varsfm::kAutoRetrievalImages));
   AddWithDefault(cmd, "--max-features", options->extract.sift.max_features, kMaxFeaturesHelp);
+  AddWithDefault(cmd, "--extract-memory-mb", options->extract.memory_mb, kExtractMemoryHelp);
   AddChoice(cmd, "--until", &options->until, ChoicesOf(varsfm::kRunStageNames),
             "the last stage run");
   AddDenseMethodOptions(cmd, &options->dense);

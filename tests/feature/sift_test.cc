@@ -132,5 +132,17 @@ TEST(Sift, RealPhotographFeatures) {
   EXPECT_EQ(few.descriptors, features.descriptors.topRows(few.keypoints.size()));
 }
 
+// The scale space's size follows the doubled octave of the image SIFT runs on: the image itself
+// up to max_image_size, half max_image_size above (sift.cc), so a larger photo may take less.
+TEST(SiftMemory, FollowsTheDoubledOctaveOfTheExtractedImage) {
+  const SiftOptions options;  // max_image_size 3200
+  EXPECT_EQ(SiftMemoryBytes(1024, 683, options), size_t{64} * 2048 * 1366);
+  EXPECT_EQ(SiftMemoryBytes(3072, 2048, options), size_t{64} * 6144 * 4096);
+  // 4000 x 3000 is extracted at 1600 x 1200.
+  EXPECT_EQ(SiftMemoryBytes(4000, 3000, options), size_t{64} * 3200 * 2400);
+  EXPECT_LT(SiftMemoryBytes(4000, 3000, options), SiftMemoryBytes(3072, 2048, options));
+  EXPECT_LT(SiftMemoryBytes(640, 480, options), SiftMemoryBytes(1024, 683, options));
+}
+
 }  // namespace
 }  // namespace varsfm

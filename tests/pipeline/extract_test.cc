@@ -260,6 +260,33 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   EXPECT_EQ(out.find("other settings"), std::string::npos) << out;
 }
 
+// A memory budget below one photo's scale space: one photo at a time, said so, and the features
+// of a run without the budget, bit for bit.
+TEST(ExtractCommand, AMemoryBudgetExtractsFewerPhotosAtOnceWithTheSameFeatures) {
+  TempDir dir("extract_memory");
+  const fs::path images = WriteThreeImages(dir.path() / "images");
+  const std::string input = "--images " + ShellQuote(images);
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "free.db", input), &out), 0) << out;
+  EXPECT_EQ(out.find("at a time"), std::string::npos) << out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "bounded.db", input + " --memory-mb 1"), &out), 0)
+      << out;
+  EXPECT_NE(out.find("1 photo(s) at a time"), std::string::npos) << out;
+
+  Database free(dir.path() / "free.db"), bounded(dir.path() / "bounded.db");
+  ASSERT_EQ(bounded.NumImages(), 3u);
+  for (image_t id = 1; id <= 3; ++id) {
+    const FeatureKeypoints a = free.ReadKeypoints(id), b = bounded.ReadKeypoints(id);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GT(a.size(), 0u);
+    for (size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].x, b[k].x);
+      EXPECT_EQ(a[k].y, b[k].y);
+    }
+    EXPECT_EQ(free.ReadDescriptors(id), bounded.ReadDescriptors(id));
+  }
+}
+
 // A photo replaced under its name (here by a half-size copy of another) is another file: it is
 // extracted again, its camera takes the new size and its matches go; the others are skipped.
 TEST(ExtractCommand, APhotoReplacedUnderItsNameIsExtractedAgain) {

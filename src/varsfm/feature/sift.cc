@@ -14,6 +14,26 @@
 
 namespace varsfm {
 
+namespace {
+
+// The factor ExtractSift resizes an image by before OpenCV's SIFT.
+double InputScale(int width, int height, const SiftOptions& options) {
+  const int max_side = std::max(width, height);
+  if (max_side <= options.max_image_size) return 1.0;
+  // OpenCV's SIFT always doubles its input for its first octave (octave -1, Lowe 2004
+  // section 3.3): for an image downscaled to max_image_size that interpolates fine detail the
+  // downscale has just removed, in an octave of 4x the pixels that costs most of the pyramid.
+  // A larger image is downscaled to half max_image_size instead, so that the doubled first
+  // octave lies at max_image_size: OpenCV blurs the doubled image from an assumed sigma 1.0
+  // (2 x 0.5) to sigma 1.6, and a Gaussian of sigma 1.6 px keeps only
+  // exp(-2 pi^2 1.6^2 0.25^2) = 4 % of the frequencies the half-size image cannot hold, so
+  // that octave is the max_image_size image's octave 0 (no upsampling), at a quarter of the
+  // cost. Images up to max_image_size keep their doubled octave.
+  return 0.5 * options.max_image_size / max_side;
+}
+
+}  // namespace
+
 ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   if (gray.empty() || gray.type() != CV_8UC1) Fail("SIFT expects a non-empty 8-bit grey image");
   if (options.max_features <= 0 || options.max_image_size <= 0) {
@@ -21,20 +41,8 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   }
 
   cv::Mat input = gray;
-  const int max_side = std::max(gray.cols, gray.rows);
-  if (max_side > options.max_image_size) {
-    // OpenCV's SIFT always doubles its input for its first octave (octave -1, Lowe 2004
-    // section 3.3): for an image downscaled to max_image_size that interpolates fine detail the
-    // downscale has just removed, in an octave of 4x the pixels that costs most of the pyramid.
-    // A larger image is downscaled to half max_image_size instead, so that the doubled first
-    // octave lies at max_image_size: OpenCV blurs the doubled image from an assumed sigma 1.0
-    // (2 x 0.5) to sigma 1.6, and a Gaussian of sigma 1.6 px keeps only
-    // exp(-2 pi^2 1.6^2 0.25^2) = 4 % of the frequencies the half-size image cannot hold, so
-    // that octave is the max_image_size image's octave 0 (no upsampling), at a quarter of the
-    // cost. Images up to max_image_size keep their doubled octave.
-    const double scale = 0.5 * options.max_image_size / max_side;
-    cv::resize(gray, input, cv::Size(), scale, scale, cv::INTER_AREA);
-  }
+  const double scale = InputScale(gray.cols, gray.rows, options);
+  if (scale < 1.0) cv::resize(gray, input, cv::Size(), scale, scale, cv::INTER_AREA);
   // Per-axis factors: rounding the resized size makes them differ slightly.
   const float sx = static_cast<float>(gray.cols) / input.cols;
   const float sy = static_cast<float>(gray.rows) / input.rows;
@@ -102,6 +110,13 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options) {
   features.descriptors = RootSiftDescriptors(kept);
   if (features.descriptors.rows() == 0) features.descriptors.resize(0, 128);
   return features;
+}
+
+size_t SiftMemoryBytes(int width, int height, const SiftOptions& options) {
+  const double scale = InputScale(width, height, options);
+  // cv::resize rounds the size; the doubled octave has twice the input's sides.
+  const double doubled_pixels = 4.0 * std::round(scale * width) * std::round(scale * height);
+  return static_cast<size_t>(64.0 * doubled_pixels);
 }
 
 void SiftOptions::Check() const {

@@ -26,6 +26,7 @@
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/path_lock.h"
+#include "varsfm/util/physical_memory.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
@@ -119,6 +120,14 @@ std::string FeatureSettings(const SiftOptions& sift) {
   settings["contrast_threshold"] = sift.contrast_threshold;
   settings["edge_threshold"] = sift.edge_threshold;
   return settings.dump();
+}
+
+// Photos in flight in the extraction's pipeline: two per thread, but where `budget` bytes do not
+// hold a scale space of `photo_bytes` for each thread, as many as it holds (at least one): the
+// threads left idle then serve OpenCV's parallel loops inside those photos' SIFT.
+size_t PhotosInFlight(size_t threads, size_t photo_bytes, size_t budget) {
+  const size_t fit = photo_bytes > 0 && budget > 0 ? budget / photo_bytes : 2 * threads;
+  return fit >= threads ? 2 * threads : std::max<size_t>(1, fit);
 }
 
 // What a run does with each input image, given what the workspace holds.
@@ -285,6 +294,10 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     return ids;
   }();
 
+  // The first photo's scale space stands for every photo's (a set's photos share a size, mostly).
+  const size_t photo_bytes = first_image ? SiftMemoryBytes(first_image->pixels.cols,
+                                                           first_image->pixels.rows, options.sift)
+                                         : 0;
   Progress progress("extract", todo.size());
   const auto extract = [&](size_t index) {
     Extracted out;
@@ -355,9 +368,14 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   const int threads = options.threads > 0 ? options.threads : tbb::task_arena::automatic;
   tbb::task_arena arena(threads);
   const ScopedMatBufferPool scale_space_buffers;
+  const size_t budget = options.memory_mb > 0 ? options.memory_mb << 20 : PhysicalMemoryBytes() / 2;
+  const size_t tokens =
+      PhotosInFlight(static_cast<size_t>(arena.max_concurrency()), photo_bytes, budget);
+  if (tokens < static_cast<size_t>(arena.max_concurrency()))
+    info("extract: {} photo(s) at a time: a scale space takes about {:.1f} GB, {:.1f} GB allowed",
+         tokens, photo_bytes / 1e9, budget / 1e9);
   try {
     arena.execute([&] {
-      const size_t tokens = 2 * static_cast<size_t>(arena.max_concurrency());
       size_t next = 0;
       tbb::parallel_pipeline(
           tokens,
