@@ -13,7 +13,7 @@ namespace {
 
 constexpr size_t kMinBytes = size_t{1} << 20;
 
-// A freed large buffer is handed out again, to another thread too; a small one is not pooled.
+// A freed large buffer is handed out again, to another thread too.
 TEST(ScopedMatBufferPool, ReusesLargeBuffersAcrossThreads) {
   const ScopedMatBufferPool pool(kMinBytes);
   const uchar* first = nullptr;
@@ -27,10 +27,6 @@ TEST(ScopedMatBufferPool, ReusesLargeBuffersAcrossThreads) {
     again = large.data;
   }).join();
   EXPECT_EQ(again, first);
-
-  // Another size: a buffer of its own.
-  cv::Mat other(512, 1024, CV_32F);
-  EXPECT_NE(other.data, first);
   cv::Mat small(16, 16, CV_8U, cv::Scalar(7));
   EXPECT_EQ(small.at<uchar>(3, 4), 7);
 }
@@ -46,8 +42,27 @@ TEST(ScopedMatBufferPool, RestoresTheDefaultAllocatorAndOutlivesItsMatrices) {
     cv::Mat freed(1024, 1024, CV_32F);  // back to the pool, freed when the pool ends
   }
   EXPECT_EQ(cv::Mat::getDefaultAllocator(), before);
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), 0u);
   EXPECT_EQ(kept.at<float>(100, 200), 2.0f);
   kept.release();  // freed after its pool: must not touch the pool's freed blocks
+}
+
+// A large buffer of a size the pool does not hold frees what it holds (photos of many sizes
+// would otherwise leave a scale space per size); a small one leaves it.
+TEST(ScopedMatBufferPool, ALargeBufferOfAnotherSizeEmptiesThePool) {
+  const ScopedMatBufferPool pool(kMinBytes);
+  { cv::Mat a(1024, 1024, CV_32F), b(1024, 512, CV_32F); }
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{6} << 20);
+  { cv::Mat small(16, 16, CV_32F); }
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{6} << 20);
+  {
+    cv::Mat reused(1024, 1024, CV_32F);  // taken from the pool
+    EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{2} << 20);
+  }
+  cv::Mat other(2048, 1024, CV_32F);
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), 0u);
+  other.release();
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{8} << 20);
 }
 
 TEST(ScopedMatBufferPool, OneAtATime) {

@@ -56,6 +56,13 @@ class PooledMatAllocator final : public cv::MatAllocator {
   }
 
   // Frees the pooled blocks; buffers in use are freed when their matrices are.
+  size_t FreeBytes() const {
+    std::lock_guard lock(mutex_);
+    size_t total = 0;
+    for (const auto& [bytes, block] : free_) total += bytes;
+    return total;
+  }
+
   void Deactivate() {
     std::lock_guard lock(mutex_);
     for (const auto& [bytes, block] : free_) cv::fastFree(block);
@@ -64,7 +71,11 @@ class PooledMatAllocator final : public cv::MatAllocator {
   }
 
  private:
+  // A pooled block of exactly `bytes`, else a new one. A large request the pool cannot serve
+  // (a photo of another size) frees the pooled blocks first: kept, the blocks of every size met
+  // would add up to a scale space per size in a folder of photos of many sizes.
   uchar* Take(size_t bytes) const {
+    std::multimap<size_t, void*> unused;
     {
       std::lock_guard lock(mutex_);
       if (active_ && bytes >= min_bytes_) {
@@ -74,8 +85,10 @@ class PooledMatAllocator final : public cv::MatAllocator {
           free_.erase(it);
           return block;
         }
+        unused.swap(free_);
       }
     }
+    for (const auto& [size, block] : unused) cv::fastFree(block);
     return static_cast<uchar*>(cv::fastMalloc(bytes));
   }
 
@@ -108,6 +121,8 @@ ScopedMatBufferPool::ScopedMatBufferPool(size_t min_bytes)
   Allocator().Activate(min_bytes);
   cv::Mat::setDefaultAllocator(&Allocator());
 }
+
+size_t ScopedMatBufferPool::FreeBytes() { return Allocator().FreeBytes(); }
 
 ScopedMatBufferPool::~ScopedMatBufferPool() {
   cv::Mat::setDefaultAllocator(previous_);

@@ -7,7 +7,8 @@
 // page, the extraction of 3072 x 2049 photos spending more time in the kernel than with one thread
 // (bench/results/2026-12-05-s22-explored.md). While a ScopedMatBufferPool lives, cv::Mat buffers
 // of at least `min_bytes` come from a pool shared by every thread and go back to it when freed;
-// the pool's blocks are freed when it ends. One at a time.
+// the pool's blocks are freed when it ends, and when a large buffer of a size it does not hold is
+// asked for. One at a time.
 #include <cstddef>
 
 namespace cv {
@@ -22,6 +23,9 @@ class ScopedMatBufferPool {
   ~ScopedMatBufferPool();
   ScopedMatBufferPool(const ScopedMatBufferPool&) = delete;
   ScopedMatBufferPool& operator=(const ScopedMatBufferPool&) = delete;
+
+  // The bytes of the blocks the pool holds for reuse (none once it ended).
+  static size_t FreeBytes();
 
  private:
   cv::MatAllocator* previous_;  // OpenCV's default allocator before, restored at the end
