@@ -55,7 +55,6 @@ class PooledMatAllocator final : public cv::MatAllocator {
     min_bytes_ = min_bytes;
   }
 
-  // Frees the pooled blocks; buffers in use are freed when their matrices are.
   size_t FreeBytes() const {
     std::lock_guard lock(mutex_);
     size_t total = 0;
@@ -63,6 +62,7 @@ class PooledMatAllocator final : public cv::MatAllocator {
     return total;
   }
 
+  // Frees the pooled blocks; buffers in use are freed when their matrices are.
   void Deactivate() {
     std::lock_guard lock(mutex_);
     for (const auto& [bytes, block] : free_) cv::fastFree(block);

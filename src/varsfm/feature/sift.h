@@ -43,8 +43,8 @@ ImageFeatures ExtractSift(const cv::Mat& gray, const SiftOptions& options);
 // About the memory ExtractSift's scale space takes for an image of this size (bytes): OpenCV
 // keeps every octave's 6 Gaussian and 5 difference-of-Gaussian float images, the octaves together
 // 4/3 of the first, which is the doubled input (octave -1): with the input's float copies, some
-// 64 bytes per pixel of that octave. A 3072 x 2048 photo: 1.6 GB; one above max_image_size is
-// extracted at half that size (sift.cc): 0.4 GB.
+// 64 bytes per pixel of that octave. A 3072 x 2048 photo: 1.6 GB; a 4000 x 3000 one, extracted
+// at 1600 x 1200 (sift.cc): 0.5 GB.
 size_t SiftMemoryBytes(int width, int height, const SiftOptions& options);
 
 }  // namespace varsfm
