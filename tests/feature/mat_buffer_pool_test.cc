@@ -21,10 +21,12 @@ TEST(ScopedMatBufferPool, ReusesLargeBuffersAcrossThreads) {
     cv::Mat large(1024, 1024, CV_32F, cv::Scalar(1.0f));  // 4 MB
     first = large.data;
   }
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{4} << 20);
   const uchar* again = nullptr;
   std::thread([&again] {
     cv::Mat large(1024, 1024, CV_32F);
     again = large.data;
+    EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), 0u);  // taken from the pool, not malloc'ed
   }).join();
   EXPECT_EQ(again, first);
   cv::Mat small(16, 16, CV_8U, cv::Scalar(7));

@@ -1,5 +1,7 @@
 #include "varsfm/feature/mat_buffer_pool.h"
 
+#include <atomic>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -50,8 +52,7 @@ class PooledMatAllocator final : public cv::MatAllocator {
 
   void Activate(size_t min_bytes) {
     std::lock_guard lock(mutex_);
-    if (active_) Fail("ScopedMatBufferPool: one pool at a time");
-    active_ = true;
+    if (min_bytes_ != kInactive) Fail("ScopedMatBufferPool: one pool at a time");
     min_bytes_ = min_bytes;
   }
 
@@ -67,7 +68,7 @@ class PooledMatAllocator final : public cv::MatAllocator {
     std::lock_guard lock(mutex_);
     for (const auto& [bytes, block] : free_) cv::fastFree(block);
     free_.clear();
-    active_ = false;
+    min_bytes_ = kInactive;
   }
 
  private:
@@ -76,9 +77,9 @@ class PooledMatAllocator final : public cv::MatAllocator {
   // would add up to a scale space per size in a folder of photos of many sizes.
   uchar* Take(size_t bytes) const {
     std::multimap<size_t, void*> unused;
-    {
+    if (bytes >= min_bytes_) {  // small buffers, most of them, pass without the lock
       std::lock_guard lock(mutex_);
-      if (active_ && bytes >= min_bytes_) {
+      if (bytes >= min_bytes_) {
         const auto it = free_.find(bytes);
         if (it != free_.end()) {
           uchar* block = static_cast<uchar*>(it->second);
@@ -93,9 +94,9 @@ class PooledMatAllocator final : public cv::MatAllocator {
   }
 
   void Give(uchar* block, size_t bytes) const {
-    {
+    if (bytes >= min_bytes_) {
       std::lock_guard lock(mutex_);
-      if (active_ && bytes >= min_bytes_) {
+      if (bytes >= min_bytes_) {
         free_.emplace(bytes, block);
         return;
       }
@@ -105,8 +106,9 @@ class PooledMatAllocator final : public cv::MatAllocator {
 
   mutable std::mutex mutex_;
   mutable std::multimap<size_t, void*> free_;  // by size: a scale space asks the same sizes again
-  bool active_ = false;
-  size_t min_bytes_ = 0;
+  // Buffers of at least this many bytes are pooled; kInactive while no pool lives.
+  static constexpr size_t kInactive = std::numeric_limits<size_t>::max();
+  std::atomic<size_t> min_bytes_{kInactive};
 };
 
 PooledMatAllocator& Allocator() {
