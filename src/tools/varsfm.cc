@@ -48,8 +48,8 @@ constexpr const char* kMaxFeaturesHelp =
 // extract's --memory-mb and run's --extract-memory-mb.
 constexpr const char* kExtractMemoryHelp =
     "SIFT scale spaces in memory at once stay within this (MB; about 1.6 GB a 6-megapixel "
-    "photo): fewer photos are extracted at once where one per thread would not fit (0: half "
-    "the machine's memory)";
+    "photo): fewer photos are extracted at once where one per thread would not fit, a photo "
+    "larger than the first waits for room (0: half the machine's or the container's memory)";
 
 // texture's and run's.
 constexpr const char* kTextureMaxImageSizeHelp =

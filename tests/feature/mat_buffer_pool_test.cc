@@ -2,11 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <thread>
 
 #include <opencv2/core.hpp>
-
-#include "varsfm/util/error.h"
 
 namespace varsfm {
 namespace {
@@ -67,9 +66,21 @@ TEST(ScopedMatBufferPool, ALargeBufferOfAnotherSizeEmptiesThePool) {
   EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{8} << 20);
 }
 
-TEST(ScopedMatBufferPool, OneAtATime) {
-  const ScopedMatBufferPool pool(kMinBytes);
-  EXPECT_THROW(ScopedMatBufferPool second(kMinBytes), Error);
+// Two extractions in one process: their pools, alive at once and ending in either order, share
+// one pool; OpenCV's allocator is back when the last ends.
+TEST(ScopedMatBufferPool, PoolsAliveAtOnceShareOnePool) {
+  cv::MatAllocator* const before = cv::Mat::getDefaultAllocator();
+  auto first = std::make_unique<ScopedMatBufferPool>(kMinBytes);
+  cv::MatAllocator* const pooled = cv::Mat::getDefaultAllocator();
+  auto second = std::make_unique<ScopedMatBufferPool>(kMinBytes);
+  EXPECT_EQ(cv::Mat::getDefaultAllocator(), pooled);
+  { cv::Mat large(1024, 1024, CV_32F); }
+  first.reset();  // the first ends before the second
+  EXPECT_EQ(cv::Mat::getDefaultAllocator(), pooled);
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), size_t{4} << 20);
+  second.reset();
+  EXPECT_EQ(cv::Mat::getDefaultAllocator(), before);
+  EXPECT_EQ(ScopedMatBufferPool::FreeBytes(), 0u);
 }
 
 }  // namespace

@@ -155,8 +155,8 @@ TEST(ExtractCommand, UnreadableImagesAreSkippedWithAWarning) {
 }
 
 // A textured grey image with features (blurred noise), different for each seed.
-void WriteTexturedImage(const fs::path& path, int seed) {
-  cv::Mat image(240, 320, CV_8UC1);
+void WriteTexturedImage(const fs::path& path, int seed, int width = 320, int height = 240) {
+  cv::Mat image(height, width, CV_8UC1);
   cv::RNG(seed).fill(image, cv::RNG::UNIFORM, 0, 256);
   cv::GaussianBlur(image, image, cv::Size(), 2.0);
   WriteImage(path, image);
@@ -260,6 +260,23 @@ TEST(ExtractCommand, OtherSettingsExtractAgainAndThreadsChangeNothing) {
   EXPECT_EQ(out.find("other settings"), std::string::npos) << out;
 }
 
+// The two workspaces hold the same `n` images with the same features, bit for bit.
+void ExpectSameFeatures(const fs::path& workspace_a, const fs::path& workspace_b, size_t n) {
+  Database a(workspace_a), b(workspace_b);
+  ASSERT_EQ(a.NumImages(), n);
+  ASSERT_EQ(b.NumImages(), n);
+  for (image_t id = 1; id <= n; ++id) {
+    const FeatureKeypoints ka = a.ReadKeypoints(id), kb = b.ReadKeypoints(id);
+    ASSERT_EQ(ka.size(), kb.size());
+    ASSERT_GT(ka.size(), 0u);
+    for (size_t k = 0; k < ka.size(); ++k) {
+      EXPECT_EQ(ka[k].x, kb[k].x);
+      EXPECT_EQ(ka[k].y, kb[k].y);
+    }
+    EXPECT_EQ(a.ReadDescriptors(id), b.ReadDescriptors(id));
+  }
+}
+
 // A memory budget below one photo's scale space: one photo at a time, said so, and the features
 // of a run without the budget, bit for bit.
 TEST(ExtractCommand, AMemoryBudgetExtractsFewerPhotosAtOnceWithTheSameFeatures) {
@@ -269,22 +286,30 @@ TEST(ExtractCommand, AMemoryBudgetExtractsFewerPhotosAtOnceWithTheSameFeatures) 
   std::string out;
   ASSERT_EQ(RunCommand(Extract(dir.path() / "free.db", input), &out), 0) << out;
   EXPECT_EQ(out.find("at a time"), std::string::npos) << out;
-  ASSERT_EQ(RunCommand(Extract(dir.path() / "bounded.db", input + " --memory-mb 1"), &out), 0)
+  ASSERT_EQ(
+      RunCommand(Extract(dir.path() / "bounded.db", input + " --memory-mb 1 --threads 2"), &out), 0)
       << out;
   EXPECT_NE(out.find("1 photo(s) at a time"), std::string::npos) << out;
+  ExpectSameFeatures(dir.path() / "free.db", dir.path() / "bounded.db", 3);
+}
 
-  Database free(dir.path() / "free.db"), bounded(dir.path() / "bounded.db");
-  ASSERT_EQ(bounded.NumImages(), 3u);
-  for (image_t id = 1; id <= 3; ++id) {
-    const FeatureKeypoints a = free.ReadKeypoints(id), b = bounded.ReadKeypoints(id);
-    ASSERT_EQ(a.size(), b.size());
-    ASSERT_GT(a.size(), 0u);
-    for (size_t k = 0; k < a.size(); ++k) {
-      EXPECT_EQ(a[k].x, b[k].x);
-      EXPECT_EQ(a[k].y, b[k].y);
-    }
-    EXPECT_EQ(free.ReadDescriptors(id), bounded.ReadDescriptors(id));
-  }
+// A small photo first and larger ones after (two cameras): the photos in flight follow the
+// small one, but the larger ones' scale spaces (44 MB each) do not fit two at once in 60 MB:
+// they take turns, and the run ends with the features of an unbounded one.
+TEST(ExtractCommand, PhotosLargerThanTheFirstTakeTurnsWithinTheMemoryBudget) {
+  TempDir dir("extract_memory_sizes");
+  const fs::path images = dir.path() / "images";
+  fs::create_directories(images);
+  WriteTexturedImage(images / "0.png", 1, 64, 48);
+  for (int i = 1; i <= 4; ++i)
+    WriteTexturedImage(images / fmt::format("{}.png", i), i + 1, 480, 360);
+  const std::string input = "--images " + ShellQuote(images) + " --threads 2";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "free.db", input), &out), 0) << out;
+  ASSERT_EQ(RunCommand(Extract(dir.path() / "bounded.db", input + " --memory-mb 60"), &out), 0)
+      << out;
+  EXPECT_EQ(out.find("at a time"), std::string::npos) << out;  // the small photo's count
+  ExpectSameFeatures(dir.path() / "free.db", dir.path() / "bounded.db", 5);
 }
 
 // A photo replaced under its name (here by a half-size copy of another) is another file: it is

@@ -47,7 +47,8 @@ TEST(OptionsCheck, Extract) {
            {"blur_ratio", [](auto& o) { o.keyframes.blur_ratio = kNan; }},
            {"min_tracked", [](auto& o) { o.keyframes.min_tracked = 1.5; }},
            {"jpeg_quality", [](auto& o) { o.keyframes.jpeg_quality = 101; }},
-           {"--threads", [](auto& o) { o.threads = -3; }}});
+           {"--threads", [](auto& o) { o.threads = -3; }},
+           {"--memory-mb", [](auto& o) { o.memory_mb = size_t{1} << 44; }}});
 }
 
 TEST(OptionsCheck, Match) {

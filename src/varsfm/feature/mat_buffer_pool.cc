@@ -4,11 +4,10 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <new>
 
 #include <opencv2/core/core_c.h>  // CV_AUTOSTEP
 #include <opencv2/core.hpp>
-
-#include "varsfm/util/error.h"
 
 namespace varsfm {
 namespace {
@@ -32,8 +31,10 @@ class PooledMatAllocator final : public cv::MatAllocator {
       }
       total *= sizes[i];
     }
+    // The buffer first, as OpenCV's allocator: a failed allocation then leaks no UMatData.
+    uchar* data = data0 ? static_cast<uchar*>(data0) : Take(total);
     auto* u = new cv::UMatData(this);
-    u->data = u->origdata = data0 ? static_cast<uchar*>(data0) : Take(total);
+    u->data = u->origdata = data;
     u->size = total;
     if (data0) u->flags |= cv::UMatData::USER_ALLOCATED;
     return u;
@@ -50,10 +51,14 @@ class PooledMatAllocator final : public cv::MatAllocator {
     delete u;
   }
 
+  // The first of the pools alive at once installs the allocator (and keeps OpenCV's, to restore)
+  // and sets the pooled size; the others share its pool.
   void Activate(size_t min_bytes) {
     std::lock_guard lock(mutex_);
-    if (min_bytes_ != kInactive) Fail("ScopedMatBufferPool: one pool at a time");
+    if (users_++ > 0) return;
+    previous_ = cv::Mat::getDefaultAllocator();
     min_bytes_ = min_bytes;
+    cv::Mat::setDefaultAllocator(this);
   }
 
   size_t FreeBytes() const {
@@ -63,9 +68,12 @@ class PooledMatAllocator final : public cv::MatAllocator {
     return total;
   }
 
-  // Frees the pooled blocks; buffers in use are freed when their matrices are.
+  // The last of the pools alive at once restores OpenCV's allocator and frees the pooled
+  // blocks; buffers in use are freed when their matrices are.
   void Deactivate() {
     std::lock_guard lock(mutex_);
+    if (--users_ > 0) return;
+    cv::Mat::setDefaultAllocator(previous_);
     for (const auto& [bytes, block] : free_) cv::fastFree(block);
     free_.clear();
     min_bytes_ = kInactive;
@@ -97,8 +105,11 @@ class PooledMatAllocator final : public cv::MatAllocator {
     if (bytes >= min_bytes_) {
       std::lock_guard lock(mutex_);
       if (bytes >= min_bytes_) {
-        free_.emplace(bytes, block);
-        return;
+        try {  // reached from ~Mat (noexcept): a node the heap cannot give frees the block
+          free_.emplace(bytes, block);
+          return;
+        } catch (const std::bad_alloc&) {
+        }
       }
     }
     cv::fastFree(block);
@@ -109,6 +120,8 @@ class PooledMatAllocator final : public cv::MatAllocator {
   // Buffers of at least this many bytes are pooled; kInactive while no pool lives.
   static constexpr size_t kInactive = std::numeric_limits<size_t>::max();
   std::atomic<size_t> min_bytes_{kInactive};
+  int users_ = 0;                         // pools alive
+  cv::MatAllocator* previous_ = nullptr;  // OpenCV's default allocator before the first
 };
 
 PooledMatAllocator& Allocator() {
@@ -118,17 +131,10 @@ PooledMatAllocator& Allocator() {
 
 }  // namespace
 
-ScopedMatBufferPool::ScopedMatBufferPool(size_t min_bytes)
-    : previous_(cv::Mat::getDefaultAllocator()) {
-  Allocator().Activate(min_bytes);
-  cv::Mat::setDefaultAllocator(&Allocator());
-}
+ScopedMatBufferPool::ScopedMatBufferPool(size_t min_bytes) { Allocator().Activate(min_bytes); }
 
 size_t ScopedMatBufferPool::FreeBytes() { return Allocator().FreeBytes(); }
 
-ScopedMatBufferPool::~ScopedMatBufferPool() {
-  cv::Mat::setDefaultAllocator(previous_);
-  Allocator().Deactivate();
-}
+ScopedMatBufferPool::~ScopedMatBufferPool() { Allocator().Deactivate(); }
 
 }  // namespace varsfm

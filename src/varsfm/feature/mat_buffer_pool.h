@@ -8,12 +8,9 @@
 // more time in the kernel than with one thread (bench/results/2026-12-05-s22-explored.md). While a
 // ScopedMatBufferPool lives, cv::Mat buffers of at least `min_bytes` come from a pool shared by
 // every thread and go back to it when freed; the pool's blocks are freed when it ends, and when a
-// large buffer of a size it does not hold is asked for. One at a time.
+// large buffer of a size it does not hold is asked for. Pools alive at once (two extractions in
+// one process) share one pool, the first one's `min_bytes`, until the last ends.
 #include <cstddef>
-
-namespace cv {
-class MatAllocator;
-}
 
 namespace varsfm {
 
@@ -26,9 +23,6 @@ class ScopedMatBufferPool {
 
   // The bytes of the blocks the pool holds for reuse (none once it ended).
   static size_t FreeBytes();
-
- private:
-  cv::MatAllocator* previous_;  // OpenCV's default allocator before, restored at the end
 };
 
 }  // namespace varsfm

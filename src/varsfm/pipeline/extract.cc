@@ -20,6 +20,7 @@
 #include "varsfm/io/database.h"
 #include "varsfm/io/result_settings.h"
 #include "varsfm/pipeline/video_frames.h"
+#include "varsfm/util/byte_budget.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/file_fingerprint.h"
 #include "varsfm/util/log.h"
@@ -294,10 +295,14 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     return ids;
   }();
 
-  // The first photo's scale space stands for every photo's (a set's photos share a size, mostly).
+  // The first photo's scale space sets how many photos are in flight (a set's photos share a
+  // size, mostly); a photo of another camera takes its own scale space's bytes from the budget
+  // while it is extracted, and waits where they do not fit beside the others'.
   const size_t photo_bytes = first_image ? SiftMemoryBytes(first_image->pixels.cols,
                                                            first_image->pixels.rows, options.sift)
                                          : 0;
+  const size_t budget = options.memory_mb > 0 ? options.memory_mb << 20 : UsableMemoryBytes() / 2;
+  ByteBudget scale_spaces(budget);
   Progress progress("extract", todo.size());
   const auto extract = [&](size_t index) {
     Extracted out;
@@ -312,7 +317,12 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     out.usable = true;
     out.fingerprint = FileFingerprint(input.dir / input.names[index]);
     out.camera = DefaultCamera(*image);
-    out.features = ExtractSift(image->pixels, options.sift);
+    const ByteBudget::Lease lease =
+        scale_spaces.Acquire(SiftMemoryBytes(image->pixels.cols, image->pixels.rows, options.sift));
+    // Isolated: while SIFT's parallel loops wait, this thread takes none of the pipeline's other
+    // photos, whose wait for the budget would then hold this photo's lease for ever.
+    out.features =
+        tbb::this_task_arena::isolate([&] { return ExtractSift(image->pixels, options.sift); });
     return out;
   };
   const auto write = [&](const Extracted& item) {
@@ -368,7 +378,6 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
   const int threads = options.threads > 0 ? options.threads : tbb::task_arena::automatic;
   tbb::task_arena arena(threads);
   const ScopedMatBufferPool scale_space_buffers;
-  const size_t budget = options.memory_mb > 0 ? options.memory_mb << 20 : PhysicalMemoryBytes() / 2;
   const size_t tokens =
       PhotosInFlight(static_cast<size_t>(arena.max_concurrency()), photo_bytes, budget);
   if (tokens < static_cast<size_t>(arena.max_concurrency()))
@@ -409,6 +418,8 @@ void ExtractOptions::Check() const {
   CheckAtLeast("min_image_size", min_image_size, 1);
   CheckNonNegative("min_features", min_features);
   CheckNonNegative("--threads", threads);
+  // A petabyte: any machine's memory, and MB that still count in bytes without overflow.
+  CheckInRange("--memory-mb", memory_mb, size_t{0}, size_t{1} << 30);
 }
 
 ExtractSummary RunExtraction(const ExtractOptions& options, OptionsCheck check) {

@@ -23,8 +23,9 @@ struct ExtractOptions {
   int min_features = 16;    // fewer features: a warning (the image is kept, it may not register)
   int threads = 0;          // 0: all cores
   // The SIFT scale spaces in memory at once (SiftMemoryBytes, feature/sift.h) stay within this
-  // many MB: fewer photos are extracted at once where one per thread would exceed it (0: half
-  // the machine's memory). The features do not depend on it.
+  // many MB: fewer photos are extracted at once where one per thread would exceed it, and a
+  // photo whose scale space does not fit beside the others' waits (0: half the machine's memory,
+  // or of the container's limit where lower). The features do not depend on it.
   size_t memory_mb = 0;
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
