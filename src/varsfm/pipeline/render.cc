@@ -39,6 +39,7 @@ RenderEvaluationMeans Means(const std::vector<RenderEvaluationRow>& rows, bool h
     means.coverage += row.coverage;
     if (row.coverage > 0 && std::isfinite(row.psnr_db)) {
       means.psnr_db += row.psnr_db;
+      means.psnr_exposure_db += row.psnr_exposure_db;
       means.ssim += row.ssim;
       ++scored;
     }
@@ -46,6 +47,7 @@ RenderEvaluationMeans Means(const std::vector<RenderEvaluationRow>& rows, bool h
   if (means.num_images) means.coverage /= means.num_images;
   if (scored) {
     means.psnr_db /= scored;
+    means.psnr_exposure_db /= scored;
     means.ssim /= scored;
   }
   return means;
@@ -54,6 +56,7 @@ RenderEvaluationMeans Means(const std::vector<RenderEvaluationRow>& rows, bool h
 nlohmann::json ToJson(const RenderEvaluationMeans& means) {
   return {{"images", means.num_images},
           {"mean_psnr_db", means.psnr_db},
+          {"mean_psnr_exposure_db", means.psnr_exposure_db},
           {"mean_ssim", means.ssim},
           {"mean_coverage", means.coverage}};
 }
@@ -122,7 +125,8 @@ RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
     const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), image.cam_from_world);
     const PhotometricScore s = ComparePhotometric(r, photo);
     const bool is_held_out = std::find(held_out.begin(), held_out.end(), id) != held_out.end();
-    report.images.push_back({image.name, s.psnr_db, s.ssim, s.coverage, is_held_out});
+    report.images.push_back(
+        {image.name, s.psnr_db, s.psnr_exposure_db, s.ssim, s.coverage, is_held_out});
     if (!options.render_dir.empty())
       WriteRenderedImage(options.render_dir / (fs::path(image.name).stem().string() + ".png"),
                          r.image);
@@ -142,13 +146,15 @@ RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
 
 std::string FormatRenderReport(const RenderEvaluationReport& report) {
   std::string out = "Rendering of the textured model vs. photo (pixels the mesh covers)\n";
-  out += fmt::format("  {:<32} {:>9} {:>7} {:>9}\n", "image", "PSNR dB", "SSIM", "covered");
+  out += fmt::format("  {:<32} {:>9} {:>10} {:>7} {:>9}\n", "image", "PSNR dB", "exposed dB",
+                     "SSIM", "covered");
   for (const RenderEvaluationRow& row : report.images)
-    out += fmt::format("  {:<32} {:>9.2f} {:>7.3f} {:>8.1f}%{}\n", row.name, row.psnr_db, row.ssim,
-                       100 * row.coverage, row.held_out ? "  held out" : "");
+    out += fmt::format("  {:<32} {:>9.2f} {:>10.2f} {:>7.3f} {:>8.1f}%{}\n", row.name, row.psnr_db,
+                       row.psnr_exposure_db, row.ssim, 100 * row.coverage,
+                       row.held_out ? "  held out" : "");
   const auto line = [&](const std::string& label, const RenderEvaluationMeans& m) {
-    out += fmt::format("  {:<32} {:>9.2f} {:>7.3f} {:>8.1f}%\n", label, m.psnr_db, m.ssim,
-                       100 * m.coverage);
+    out += fmt::format("  {:<32} {:>9.2f} {:>10.2f} {:>7.3f} {:>8.1f}%\n", label, m.psnr_db,
+                       m.psnr_exposure_db, m.ssim, 100 * m.coverage);
   };
   if (report.held_out.num_images) {
     line(fmt::format("mean, {} held-out views", report.held_out.num_images), report.held_out);
@@ -156,6 +162,7 @@ std::string FormatRenderReport(const RenderEvaluationReport& report) {
   } else {
     line("mean", report.source);
   }
+  out += "  (exposed: PSNR after a least-squares gain per colour channel, each photo's exposure)\n";
   return out;
 }
 
@@ -172,6 +179,9 @@ nlohmann::json ToJson(const RenderEvaluationReport& report) {
     j["images"].push_back(
         {{"name", row.name},
          {"psnr_db", std::isfinite(row.psnr_db) ? nlohmann::json(row.psnr_db) : nlohmann::json()},
+         {"psnr_exposure_db", std::isfinite(row.psnr_exposure_db)
+                                  ? nlohmann::json(row.psnr_exposure_db)
+                                  : nlohmann::json()},
          {"ssim", row.ssim},
          {"coverage", row.coverage},
          {"held_out", row.held_out}});

@@ -43,6 +43,7 @@ struct RenderEvaluationOptions {
 struct RenderEvaluationRow {
   std::string name;
   double psnr_db = 0;
+  double psnr_exposure_db = 0;  // after a gain per colour channel (texture/render.h)
   double ssim = 0;
   double coverage = 0;
   bool held_out = false;
@@ -52,6 +53,7 @@ struct RenderEvaluationRow {
 struct RenderEvaluationMeans {
   size_t num_images = 0;
   double psnr_db = 0;
+  double psnr_exposure_db = 0;
   double ssim = 0;
   double coverage = 0;
 };

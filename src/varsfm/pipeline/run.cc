@@ -197,9 +197,10 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
       const RenderEvaluationMeans& h = result.renders.held_out;
       const RenderEvaluationMeans& s = result.renders.source;
       info(
-          "run: {} held-out views: PSNR {:.2f} dB, SSIM {:.3f} over {:.1f} % of the pixels "
-          "(source views: {:.2f} dB, SSIM {:.3f}, {:.1f} %)",
-          h.num_images, h.psnr_db, h.ssim, 100 * h.coverage, s.psnr_db, s.ssim, 100 * s.coverage);
+          "run: {} held-out views: PSNR {:.2f} dB ({:.2f} dB after each photo's exposure), SSIM "
+          "{:.3f} over {:.1f} % of the pixels (source views: {:.2f} dB, SSIM {:.3f}, {:.1f} %)",
+          h.num_images, h.psnr_db, h.psnr_exposure_db, h.ssim, 100 * h.coverage, s.psnr_db, s.ssim,
+          100 * s.coverage);
       summary["renders"] = ToJson(result.renders);
       add_seconds("render_evaluation", result.renders.seconds);
     }

@@ -50,17 +50,25 @@ std::string InitialPairCard(const ReportData& data) {
   return Card("Initial pair", pair, note);
 }
 
+// The PSNR after each photo's exposure (pipeline/render.h) with `suffix`; empty in the summary of
+// a run made before it was measured, and where the figure is null (an exact match).
+std::string ExposurePsnr(const nlohmann::json& object, const char* key, const char* suffix) {
+  if (!object.contains(key) || !object[key].is_number()) return "";
+  return fmt::format("{:.2f}{}", object[key].get<double>(), suffix);
+}
+
 // "28.44 dB", its SSIM and coverage as a card's value and note; `means` is one of the renders'
 // "held_out" / "source" objects.
 std::string RenderMeansCard(const std::string& label, const nlohmann::json& means,
                             const std::string& what) {
   const int images = means.value("images", 0);
   if (images == 0) return "";
-  return Card(
-      fmt::format("{} ({})", label, images),
-      fmt::format("{:.2f} dB", means.value("mean_psnr_db", 0.0)),
-      fmt::format("SSIM {:.3f}, covers {:.1f} % of the photos; {}", means.value("mean_ssim", 0.0),
-                  100 * means.value("mean_coverage", 0.0), what));
+  return Card(fmt::format("{} ({})", label, images),
+              fmt::format("{:.2f} dB", means.value("mean_psnr_db", 0.0)),
+              ExposurePsnr(means, "mean_psnr_exposure_db", " dB after each photo's exposure; ") +
+                  fmt::format("SSIM {:.3f}, covers {:.1f} % of the photos; {}",
+                              means.value("mean_ssim", 0.0),
+                              100 * means.value("mean_coverage", 0.0), what));
 }
 
 double Rms(const std::vector<double>& errors) {
@@ -177,15 +185,18 @@ std::string RendersSection(const ReportData& data) {
   for (const nlohmann::json& image : renders.value("images", nlohmann::json::array())) {
     if (!image.is_object()) continue;
     rows += fmt::format(
-        "<tr><td>{}</td><td>{}</td><td>{:.2f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>",
+        "<tr><td>{}</td><td>{}</td><td>{:.2f}</td><td>{}</td><td>{:.3f}</td><td>{:.1f}</td>"
+        "</tr>",
         EscapeHtml(image.value("name", std::string())),
         image.value("held_out", false) ? "held out" : "source", image.value("psnr_db", 0.0),
-        image.value("ssim", 0.0), 100 * image.value("coverage", 0.0));
+        ExposurePsnr(image, "psnr_exposure_db", ""), image.value("ssim", 0.0),
+        100 * image.value("coverage", 0.0));
   }
   if (!rows.empty())
     html +=
         "<table class=\"images renders\"><thead><tr><th>image</th><th>view</th><th>PSNR (dB)</th>"
-        "<th>SSIM</th><th>coverage (%)</th></tr></thead><tbody>" +
+        "<th>PSNR after its exposure (dB)</th><th>SSIM</th><th>coverage (%)</th></tr></thead>"
+        "<tbody>" +
         rows + "</tbody></table>";
   return html +
          "<p class=\"hint\">Each registered camera renders the textured model, compared with its "

@@ -87,6 +87,9 @@ PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& p
          rendering.image.cols, rendering.image.rows);
   PhotometricScore score;
   double sum_sq = 0;
+  // Per channel: sums of rendering x photo, rendering^2 and photo^2, whose least-squares gain
+  // g = sum(rp) / sum(r^2) leaves sum(p^2) - sum(rp)^2 / sum(r^2) of squared error.
+  double rp[3] = {0, 0, 0}, rr[3] = {0, 0, 0}, pp[3] = {0, 0, 0};
   for (int y = 0; y < photo.rows; ++y) {
     const cv::Vec3b* a = rendering.image.ptr<cv::Vec3b>(y);
     const cv::Vec3b* b = photo.ptr<cv::Vec3b>(y);
@@ -95,17 +98,26 @@ PhotometricScore ComparePhotometric(const Rendering& rendering, const cv::Mat& p
       if (!m[x]) continue;
       ++score.covered_pixels;
       for (int c = 0; c < 3; ++c) {
-        const double d = static_cast<double>(a[x][c]) - b[x][c];
+        const double r = a[x][c], p = b[x][c], d = r - p;
         sum_sq += d * d;
+        rp[c] += r * p;
+        rr[c] += r * r;
+        pp[c] += p * p;
       }
     }
   }
   score.coverage = static_cast<double>(score.covered_pixels) / (photo.rows * photo.cols);
   if (score.covered_pixels == 0) return score;
   score.ssim = MaskedSsim(rendering.image, photo, rendering.mask);
-  const double mse = sum_sq / (3.0 * score.covered_pixels);
-  score.psnr_db =
-      mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+  const auto psnr = [&](double squared_error) {
+    const double mse = std::max(0.0, squared_error) / (3.0 * score.covered_pixels);
+    return mse > 0 ? 10 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+  };
+  score.psnr_db = psnr(sum_sq);
+  double exposure_sq = 0;
+  for (int c = 0; c < 3; ++c) exposure_sq += rr[c] > 0 ? pp[c] - rp[c] * rp[c] / rr[c] : pp[c];
+  // Rounding can leave the exact fit a hair below zero, or above the plain error.
+  score.psnr_exposure_db = std::max(score.psnr_db, psnr(exposure_sq));
   return score;
 }
 

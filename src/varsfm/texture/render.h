@@ -28,7 +28,11 @@ cv::Mat RenderShadedMesh(const std::vector<Eigen::Vector3d>& vertices,
                          const Rigid3d& cam_from_world);
 
 struct PhotometricScore {
-  double psnr_db = 0;   // over covered pixels and the three channels; +inf if identical
+  double psnr_db = 0;  // over covered pixels and the three channels; +inf if identical
+  // The same after the rendering is scaled by the least-squares gain of each colour channel: the
+  // photo's own exposure and white balance, which no single texture reproduces for every photo
+  // (a view-synthesis benchmark's colour-corrected PSNR), set apart from the model's error.
+  double psnr_exposure_db = 0;
   double ssim = 0;      // over covered pixels (ssim.h: MaskedSsim); 0 when nothing is covered
   double coverage = 0;  // covered pixels / all pixels
   size_t covered_pixels = 0;
