@@ -21,6 +21,7 @@
 #include "varsfm/image/jpeg_codec.h"
 #include "varsfm/io/database.h"
 #include "varsfm/pipeline/extract.h"
+#include "varsfm/util/file_fingerprint.h"
 
 namespace varsfm {
 namespace {
@@ -167,6 +168,35 @@ fs::path WriteThreeImages(const fs::path& images) {
   fs::create_directories(images);
   for (int i = 0; i < 3; ++i) WriteTexturedImage(images / fmt::format("{}.png", i), i + 1);
   return images;
+}
+
+// A photo copied under another name is extracted (an image like any other) and named in a
+// warning; two files alike at both ends (the same fingerprint) but not in the middle are not.
+TEST(ExtractCommand, ACopyOfAPhotoIsNamedInAWarning) {
+  TempDir dir("extract_copies");
+  const fs::path images = WriteThreeImages(dir.path() / "images");
+  fs::copy_file(images / "1.png", images / "copy_of_1.png");
+  // Two 400 x 400 binary PGMs (160 kB) that differ in rows 170-230 only: same size, same first
+  // and last 64 KiB (rows 0-163 and 236-399).
+  cv::Mat a(400, 400, CV_8UC1);
+  cv::RNG(5).fill(a, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(a, a, cv::Size(), 2.0);
+  cv::Mat b = a.clone();
+  cv::flip(a.rowRange(170, 230), b.rowRange(170, 230), 1);
+  for (const auto& [name, image] : {std::pair{"a.pgm", a}, std::pair{"b.pgm", b}}) {
+    std::ofstream file(images / name, std::ios::binary);
+    file << "P5\n400 400\n255\n";
+    file.write(reinterpret_cast<const char*>(image.data),
+               static_cast<std::streamsize>(image.total()));
+  }
+  ASSERT_EQ(FileFingerprint(images / "a.pgm"), FileFingerprint(images / "b.pgm"));
+  const fs::path workspace = dir.path() / "ws.db";
+  std::string out;
+  ASSERT_EQ(RunCommand(Extract(workspace, "--images " + ShellQuote(images)), &out), 0) << out;
+  EXPECT_NE(out.find("copy_of_1.png is the same file as 1.png (a copy?)"), std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("b.pgm is the same file"), std::string::npos) << out;
+  EXPECT_EQ(Database(workspace).NumImages(), 6u);
 }
 
 // A link to a photo of the folder is that photo (skipped with a warning naming both); broken

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -267,6 +268,43 @@ void RemoveImages(Database& db, const std::vector<DbImage>& images) {
   }
 }
 
+// True when the two files hold the same bytes.
+bool SameContents(const fs::path& a, const fs::path& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  if (!fa || !fb) return false;
+  return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
+                    std::istreambuf_iterator<char>(fb), std::istreambuf_iterator<char>());
+}
+
+// Photos of the input that are one file under two names (a copy): the copy adds no view, and the
+// two make a pair without a baseline. A warning per copy, the first name by name order kept as
+// the original; the run goes on. Fingerprints (util/file_fingerprint.h) find the candidates, a
+// comparison of the whole files confirms them.
+void WarnOfCopies(const Database& db, const ResultSettings& record, const InputImages& input) {
+  const std::unordered_set<std::string> names(input.names.begin(), input.names.end());
+  const std::unordered_map<image_t, std::string> files = record.ReadImageFiles();
+  std::vector<std::pair<std::string, std::string>> photos;  // name, fingerprint
+  for (const DbImage& image : db.ReadAllImages()) {
+    const auto file = files.find(image.image_id);
+    if (names.count(image.name) && file != files.end())
+      photos.emplace_back(image.name, file->second);
+  }
+  std::sort(photos.begin(), photos.end());
+  std::unordered_map<std::string, std::vector<std::string>> originals;  // by fingerprint
+  for (const auto& [name, fingerprint] : photos) {
+    std::vector<std::string>& same_fingerprint = originals[fingerprint];
+    const auto original = std::find_if(same_fingerprint.begin(), same_fingerprint.end(),
+                                       [&](const std::string& other) {
+                                         return SameContents(input.dir / other, input.dir / name);
+                                       });
+    if (original == same_fingerprint.end()) {
+      same_fingerprint.push_back(name);
+    } else {
+      warn("{} is the same file as {} (a copy?): it adds no view to the model", name, *original);
+    }
+  }
+}
+
 void RemoveWorkspace(const fs::path& workspace) {
   std::error_code ec;
   for (const char* suffix : {"", "-wal", "-shm", "-journal"}) {
@@ -408,6 +446,7 @@ void WriteFeatures(Database& db, const ExtractOptions& options, const InputImage
     throw;
   }
   progress.Finish();
+  WarnOfCopies(db, record, input);
 }
 
 }  // namespace
