@@ -98,21 +98,44 @@ TEST(AlphaExpansion, NodesKeepTheirCandidates) {
   for (int n : {0, 1, 2, 3, 5, 6, 7, 8}) EXPECT_EQ(labels[n], 0) << n;
 }
 
+// Face 0 seen by views 0 and 2, face 1 by view 1 only: a view's entry or none.
+TEST(FaceObservations, FindsAViewsEntryOfAFaceOrNone) {
+  FaceObservations obs;
+  obs.num_faces = 2;
+  obs.num_views = 3;
+  obs.begin = {0, 2, 3};
+  obs.view = {0, 2, 1};
+  obs.quality = {1.0f, 2.0f, 3.0f};
+  obs.colour = {{1, 1, 1}, {2, 2, 2}, {3, 3, 3}};
+  EXPECT_EQ(obs.Find(2, 0), 1u);
+  EXPECT_EQ(obs.Find(1, 1), 2u);
+  EXPECT_EQ(obs.Find(1, 0), FaceObservations::kNone);
+  EXPECT_EQ(obs.Find(0, 1), FaceObservations::kNone);
+  EXPECT_EQ(obs.Quality(1, 0), 0.0f);
+  EXPECT_EQ(obs.Quality(2, 0), 2.0f);
+  EXPECT_EQ(obs.Colour(0, 1), Eigen::Vector3f::Zero());
+}
+
 TEST(ExposureGain, RecoversTheRatioOfExposures) {
   // Three views of one face set; view 1 exposed at 0.5 and view 2 at 1.5 times view 0, per
   // channel differently for view 2 (white balance).
+  // Every view sees every face: face f's entries are 3f (view 0) to 3f + 2 (view 2).
   FaceObservations obs;
   obs.num_faces = 200;
   obs.num_views = 3;
+  for (size_t f = 0; f <= obs.num_faces; ++f) obs.begin.push_back(3 * f);
+  for (size_t f = 0; f < obs.num_faces; ++f) obs.view.insert(obs.view.end(), {0, 1, 2});
   obs.quality.assign(600, 1.0f);
   obs.colour.resize(600);
   const Eigen::Vector3f exposure[3] = {{1, 1, 1}, {0.5f, 0.5f, 0.5f}, {1.5f, 1.4f, 1.3f}};
   for (size_t f = 0; f < obs.num_faces; ++f) {
     const Eigen::Vector3f c(40.0f + f % 50, 60.0f + f % 30, 50.0f + f % 70);
-    for (int v = 0; v < 3; ++v) obs.colour[v * obs.num_faces + f] = c.cwiseProduct(exposure[v]);
+    for (int v = 0; v < 3; ++v) obs.colour[3 * f + v] = c.cwiseProduct(exposure[v]);
   }
+  ASSERT_EQ(obs.Find(2, 7), 23u);
+  ASSERT_EQ(obs.Colour(1, 7), obs.colour[22]);
   // A face is seen by an occluder in view 1 in a minority of faces: the median ignores it.
-  for (size_t f = 0; f < 30; ++f) obs.colour[obs.num_faces + f] = {200, 10, 10};
+  for (size_t f = 0; f < 30; ++f) obs.colour[3 * f + 1] = {200, 10, 10};
   const std::vector<Eigen::Vector3f> gains = EstimateExposureGains(obs);
   for (int v = 1; v < 3; ++v)
     for (int k = 0; k < 3; ++k)

@@ -9,51 +9,82 @@
 
 namespace varsfm {
 
+namespace {
+
+// A pair of views (i < j) that shares enough usable faces: their number and, per channel, the
+// median of log(colour_i / colour_j) over them, negated (m_ij = log(gain_i / gain_j)).
+struct PairEstimate {
+  size_t i = 0, j = 0;
+  double n = 0;
+  double m[3] = {0, 0, 0};
+};
+
+// The pairs in (i, j) order. View by view, so that only one view's log-ratios are held at once
+// (all pairs' at once grew with the square of the views seeing a face: gigabytes for a few
+// hundred photos of one street).
+std::vector<PairEstimate> PairEstimates(const FaceObservations& obs,
+                                        const ExposureGainOptions& options) {
+  const size_t num_views = obs.num_views;
+  const auto usable = [&](size_t k) {
+    const Eigen::Vector3f& c = obs.colour[k];
+    return obs.quality[k] > 0 && c.minCoeff() >= options.min_level &&
+           c.maxCoeff() <= options.max_level;
+  };
+  // Per view, its usable entries and their faces, in face order.
+  std::vector<std::vector<std::pair<size_t, size_t>>> entries_of_view(num_views);
+  for (size_t f = 0; f < obs.num_faces; ++f)
+    for (size_t k = obs.begin[f]; k < obs.begin[f + 1]; ++k)
+      if (usable(k)) entries_of_view[obs.view[k]].emplace_back(f, k);
+  std::vector<PairEstimate> pairs;
+  std::vector<std::vector<Eigen::Vector3f>> ratios(num_views);  // view i's, by the other view
+  std::vector<float> values;
+  for (size_t i = 0; i < num_views; ++i) {
+    for (std::vector<Eigen::Vector3f>& r : ratios) r.clear();
+    for (const auto& [f, ka] : entries_of_view[i])
+      for (size_t kb = ka + 1; kb < obs.begin[f + 1]; ++kb)  // the face's later views
+        if (usable(kb))
+          ratios[obs.view[kb]].push_back(
+              (obs.colour[ka].array().log() - obs.colour[kb].array().log()).matrix());
+    std::vector<std::pair<size_t, size_t>>().swap(entries_of_view[i]);
+    for (size_t j = i + 1; j < num_views; ++j) {
+      const std::vector<Eigen::Vector3f>& r = ratios[j];
+      if (static_cast<int>(r.size()) < options.min_shared_faces) continue;
+      PairEstimate pair{i, j, static_cast<double>(r.size())};
+      for (int channel = 0; channel < 3; ++channel) {
+        values.resize(r.size());
+        for (size_t k = 0; k < r.size(); ++k) values[k] = r[k][channel];
+        std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+        pair.m[channel] = -values[values.size() / 2];
+      }
+      pairs.push_back(pair);
+    }
+  }
+  return pairs;
+}
+
+}  // namespace
+
 std::vector<Eigen::Vector3f> EstimateExposureGains(const FaceObservations& obs,
                                                    const ExposureGainOptions& options) {
   const size_t num_views = obs.num_views;
   std::vector<Eigen::Vector3f> gains(num_views, Eigen::Vector3f::Ones());
   if (!options.enabled || num_views < 2) return gains;
-  const auto usable = [&](const Eigen::Vector3f& c) {
-    return c.minCoeff() >= options.min_level && c.maxCoeff() <= options.max_level;
-  };
-  // Log-ratios per ordered pair (i < j) and channel.
-  std::vector<std::vector<Eigen::Vector3f>> ratios(num_views * num_views);
-  std::vector<int> seen;
-  for (size_t f = 0; f < obs.num_faces; ++f) {
-    seen.clear();
-    for (size_t v = 0; v < num_views; ++v)
-      if (obs.Quality(v, f) > 0 && usable(obs.Colour(v, f))) seen.push_back(static_cast<int>(v));
-    for (size_t a = 0; a < seen.size(); ++a)
-      for (size_t b = a + 1; b < seen.size(); ++b)
-        ratios[seen[a] * num_views + seen[b]].push_back(
-            (obs.Colour(seen[a], f).array().log() - obs.Colour(seen[b], f).array().log()).matrix());
-  }
+  const std::vector<PairEstimate> pairs = PairEstimates(obs, options);
+  if (pairs.empty()) return gains;
   for (int channel = 0; channel < 3; ++channel) {
     // Normal equations of sum_ij n_ij (x_i - x_j - m_ij)^2 + (sum_i x_i)^2, x_i = log gain_i:
     // gain_i colour_i = gain_j colour_j means x_i - x_j = -log(colour_i / colour_j) = m_ij.
     Eigen::MatrixXd A = Eigen::MatrixXd::Ones(num_views, num_views);  // the gauge term
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(num_views);
-    bool any = false;
-    for (size_t i = 0; i < num_views; ++i) {
-      for (size_t j = i + 1; j < num_views; ++j) {
-        std::vector<Eigen::Vector3f>& r = ratios[i * num_views + j];
-        if (static_cast<int>(r.size()) < options.min_shared_faces) continue;
-        std::vector<float> values(r.size());
-        for (size_t k = 0; k < r.size(); ++k) values[k] = r[k][channel];
-        std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-        const double m = -values[values.size() / 2];
-        const double n = static_cast<double>(r.size());
-        A(i, i) += n;
-        A(j, j) += n;
-        A(i, j) -= n;
-        A(j, i) -= n;
-        rhs[i] += n * m;
-        rhs[j] -= n * m;
-        any = true;
-      }
+    for (const PairEstimate& pair : pairs) {
+      const double n = pair.n, m = pair.m[channel];
+      A(pair.i, pair.i) += n;
+      A(pair.j, pair.j) += n;
+      A(pair.i, pair.j) -= n;
+      A(pair.j, pair.i) -= n;
+      rhs[pair.i] += n * m;
+      rhs[pair.j] -= n * m;
     }
-    if (!any) return gains;
     // Views without any usable pair keep gain 1 through a weak pull towards 0.
     A.diagonal().array() += 1e-3;
     const Eigen::VectorXd x = A.ldlt().solve(rhs);

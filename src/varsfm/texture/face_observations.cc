@@ -44,11 +44,19 @@ RasterSums SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv
   return sums;
 }
 
-// Fills view v's quality and colour of every face (stride 1) and its coverage.
+// One view's observation of one face.
+struct ViewObservation {
+  uint32_t face;
+  float quality;
+  Eigen::Vector3f colour;
+};
+
+// View v's observations of the faces it may texture (in face order) and its coverage.
 void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
                  const std::vector<Eigen::Vector3i>& faces, const PosedCamera& view,
-                 const cv::Mat& photo, const FaceObservationOptions& options, float* quality,
-                 Eigen::Vector3f* colour, double* coverage, cv::Mat* small_out, double* scale_out) {
+                 const cv::Mat& photo, const FaceObservationOptions& options,
+                 std::vector<ViewObservation>* seen, double* coverage, cv::Mat* small_out,
+                 double* scale_out) {
   const Camera& camera = view.camera;
   const ScaledSize size = SizeWithin(camera, options.max_raster_size);
   const double scale = size.scale;
@@ -93,8 +101,6 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
   const Eigen::Vector3d& t = view.cam_from_world.translation;
   const Eigen::Vector3d centre = view.cam_from_world.Center();
   for (size_t f = 0; f < faces.size(); ++f) {
-    quality[f] = 0;
-    colour[f].setZero();
     const ProjectedVertex* p[3] = {&projected[faces[f][0]], &projected[faces[f][1]],
                                    &projected[faces[f][2]]};
     if (p[0]->depth <= 0 || p[1]->depth <= 0 || p[2]->depth <= 0) continue;
@@ -132,18 +138,21 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
     const Eigen::Vector2d e1 = p[1]->pixel - p[0]->pixel, e2 = p[2]->pixel - p[0]->pixel;
     const double area = 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
     double gradient_sum;
+    Eigen::Vector3f colour;
     if (sums.pixels[f] > 0) {
       gradient_sum = sums.gradient[f];
-      colour[f] = sums.colour[f] / static_cast<float>(sums.pixels[f]);
+      colour = sums.colour[f] / static_cast<float>(sums.pixels[f]);
     } else {
       const int cx = std::clamp(static_cast<int>(centroid_pixel.x()), 0, w - 1);
       const int cy = std::clamp(static_cast<int>(centroid_pixel.y()), 0, h - 1);
       gradient_sum = std::max(1.0, area) * magnitude.at<float>(cy, cx);
-      colour[f] = SampleBilinear(small, centroid_pixel);
+      colour = SampleBilinear(small, centroid_pixel);
     }
-    quality[f] = static_cast<float>(weight * gradient_sum / (scale * scale));
-    if (quality[f] <= 0) quality[f] = std::numeric_limits<float>::min();
+    float quality = static_cast<float>(weight * gradient_sum / (scale * scale));
+    if (quality <= 0) quality = std::numeric_limits<float>::min();
+    seen->push_back({static_cast<uint32_t>(f), quality, colour});
   }
+  seen->shrink_to_fit();  // every view's list is held until all are gathered
   *small_out = small;
   *scale_out = scale;
 }
@@ -173,9 +182,7 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   FaceObservations obs;
   obs.num_faces = faces.size();
   obs.num_views = views.size();
-  obs.quality.assign(obs.num_faces * obs.num_views, 0.0f);
-  obs.colour.assign(obs.num_faces * obs.num_views, Eigen::Vector3f::Zero());
-  obs.deviation.assign(obs.num_faces * obs.num_views, 0.0f);
+  std::vector<std::vector<ViewObservation>> seen(obs.num_views);
   obs.coverage.assign(obs.num_views, 0.0);
   obs.small_photos.resize(obs.num_views);
   obs.small_scale.assign(obs.num_views, 1.0);
@@ -188,14 +195,39 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
       if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
         Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
              photo.rows, photo.type(), camera.width, camera.height);
-      ObserveView(vertices, faces, views[v], photo, options, &obs.quality[v * obs.num_faces],
-                  &obs.colour[v * obs.num_faces], &obs.coverage[v], &obs.small_photos[v],
-                  &obs.small_scale[v]);
+      ObserveView(vertices, faces, views[v], photo, options, &seen[v], &obs.coverage[v],
+                  &obs.small_photos[v], &obs.small_scale[v]);
       progress.Tick();
     });
   });
   progress.Finish();
+  // Face by face, in view order.
+  obs.begin.assign(obs.num_faces + 1, 0);
+  for (const std::vector<ViewObservation>& list : seen)
+    for (const ViewObservation& o : list) ++obs.begin[o.face + 1];
+  for (size_t f = 0; f < obs.num_faces; ++f) obs.begin[f + 1] += obs.begin[f];
+  const size_t total = obs.begin[obs.num_faces];
+  obs.view.resize(total);
+  obs.quality.resize(total);
+  obs.colour.resize(total);
+  obs.deviation.assign(total, 0.0f);
+  std::vector<size_t> next(obs.begin.begin(), obs.begin.end() - 1);
+  for (size_t v = 0; v < obs.num_views; ++v) {
+    for (const ViewObservation& o : seen[v]) {
+      const size_t k = next[o.face]++;
+      obs.view[k] = static_cast<uint32_t>(v);
+      obs.quality[k] = o.quality;
+      obs.colour[k] = o.colour;
+    }
+    std::vector<ViewObservation>().swap(seen[v]);
+  }
   return obs;
+}
+
+size_t FaceObservations::Find(size_t v, size_t face) const {
+  const auto first = view.begin() + begin[face], last = view.begin() + begin[face + 1];
+  const auto it = std::lower_bound(first, last, static_cast<uint32_t>(v));
+  return it != last && *it == v ? static_cast<size_t>(it - view.begin()) : kNone;
 }
 
 void FaceObservationOptions::Check() const {

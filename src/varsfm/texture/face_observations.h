@@ -5,6 +5,7 @@
 // frontal and sharp views alike), and the face's mean colour there, for the photo-consistency
 // check and the exposure gains. Each view also keeps a small copy of its photo for sampling
 // colours along seams (colour_levelling.h).
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -42,8 +43,12 @@ struct FaceObservationOptions {
 struct FaceObservations {
   size_t num_faces = 0;
   size_t num_views = 0;
-  // View-major (index v * num_faces + f). quality 0: the view is not a candidate for the face.
-  std::vector<float> quality;
+  // The views that may texture each face, face by face and in view order: face f's entries are
+  // [begin[f], begin[f + 1]). Sparse, as a view sees a part of a large model: a table of every
+  // view and face took 20 bytes a pair (7 GB for 200 views of 1.8 M faces).
+  std::vector<size_t> begin;  // num_faces + 1
+  std::vector<uint32_t> view;
+  std::vector<float> quality;  // > 0 when observed; 0 once photo-consistency rejects the view
   std::vector<Eigen::Vector3f> colour;  // BGR, 0-255, the mean over the face's projection
   // The colour's distance from the consensus of the face's views (photo_consistency.h), after
   // the exposure gains, in grey levels; 0 where no consensus was found (or not computed).
@@ -52,9 +57,16 @@ struct FaceObservations {
   std::vector<cv::Mat> small_photos;  // per view: CV_32FC3 BGR, small_scale x the photo
   std::vector<double> small_scale;
 
-  float Quality(size_t view, size_t face) const { return quality[view * num_faces + face]; }
-  const Eigen::Vector3f& Colour(size_t view, size_t face) const {
-    return colour[view * num_faces + face];
+  static constexpr size_t kNone = static_cast<size_t>(-1);
+  // The entry of `view`'s observation of `face`, or kNone.
+  size_t Find(size_t view, size_t face) const;
+  float Quality(size_t v, size_t face) const {
+    const size_t k = Find(v, face);
+    return k == kNone ? 0.0f : quality[k];
+  }
+  Eigen::Vector3f Colour(size_t v, size_t face) const {
+    const size_t k = Find(v, face);
+    return k == kNone ? Eigen::Vector3f::Zero() : colour[k];
   }
 };
 

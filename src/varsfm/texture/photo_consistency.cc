@@ -47,17 +47,17 @@ size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
       static_cast<float>(std::pow(options.reject_distance * options.bandwidth, 2));
   // Faces are independent and each writes only its own entries: parallel, and deterministic.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, obs->num_faces, 4096), [&](const auto& range) {
-    std::vector<size_t> views;
+    std::vector<size_t> entries;  // of the face's candidate views, in view order
     std::vector<Eigen::Vector3f> colours;
     for (size_t f = range.begin(); f < range.end(); ++f) {
-      views.clear();
+      entries.clear();
       colours.clear();
-      for (size_t v = 0; v < obs->num_views; ++v) {
-        if (obs->Quality(v, f) <= 0) continue;
-        views.push_back(v);
-        colours.push_back(obs->Colour(v, f).cwiseProduct(gains[v]));
+      for (size_t k = obs->begin[f]; k < obs->begin[f + 1]; ++k) {
+        if (obs->quality[k] <= 0) continue;
+        entries.push_back(k);
+        colours.push_back(obs->colour[k].cwiseProduct(gains[obs->view[k]]));
       }
-      if (views.size() < 3) continue;  // no majority to side with
+      if (entries.size() < 3) continue;  // no majority to side with
       Eigen::Vector3f mode = Eigen::Vector3f::Zero();
       double best_density = -1;
       for (const Eigen::Vector3f& c : colours) {
@@ -71,12 +71,12 @@ size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
       size_t inliers = 0;
       for (const Eigen::Vector3f& c : colours) inliers += (c - mode).squaredNorm() <= reject_sq;
       if (2 * inliers <= colours.size()) continue;
-      for (size_t k = 0; k < views.size(); ++k)
-        obs->deviation[views[k] * obs->num_faces + f] = (colours[k] - mode).norm();
-      for (size_t k = 0; k < views.size(); ++k) {
-        if ((colours[k] - mode).squaredNorm() > reject_sq) {
-          obs->quality[views[k] * obs->num_faces + f] = 0;
-          rejected_here[views[k] * obs->num_faces + f] = 1;
+      for (size_t i = 0; i < entries.size(); ++i)
+        obs->deviation[entries[i]] = (colours[i] - mode).norm();
+      for (size_t i = 0; i < entries.size(); ++i) {
+        if ((colours[i] - mode).squaredNorm() > reject_sq) {
+          obs->quality[entries[i]] = 0;
+          rejected_here[entries[i]] = 1;
           ++rejected;
         }
       }
@@ -87,14 +87,18 @@ size_t RejectInconsistentViews(const std::vector<Eigen::Vector3f>& gains,
   // that keep another candidate.
   size_t ring = 0;
   for (size_t f = 0; f < obs->num_faces; ++f) {
-    for (size_t v = 0; v < obs->num_views; ++v) {
-      if (!rejected_here[v * obs->num_faces + f]) continue;
+    for (size_t k = obs->begin[f]; k < obs->begin[f + 1]; ++k) {
+      if (!rejected_here[k]) continue;
+      const uint32_t v = obs->view[k];
       for (const int g : neighbours[f]) {
-        if (g < 0 || obs->Quality(v, g) <= 0 || rejected_here[v * obs->num_faces + g]) continue;
+        if (g < 0) continue;
+        const size_t kg = obs->Find(v, g);
+        if (kg == FaceObservations::kNone || obs->quality[kg] <= 0 || rejected_here[kg]) continue;
         size_t others = 0;
-        for (size_t u = 0; u < obs->num_views; ++u) others += u != v && obs->Quality(u, g) > 0;
+        for (size_t u = obs->begin[g]; u < obs->begin[g + 1]; ++u)
+          others += u != kg && obs->quality[u] > 0;
         if (others == 0) continue;
-        obs->quality[v * obs->num_faces + g] = 0;
+        obs->quality[kg] = 0;
         ++ring;
       }
     }

@@ -33,22 +33,24 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
       1.0 / (options.consistency.reject_distance * options.consistency.bandwidth);
   std::vector<int> best_view(faces.size(), -1);
   for (size_t f = 0; f < faces.size(); ++f) {
+    const size_t first = obs.begin[f], last = obs.begin[f + 1];  // in view order
     float best = 0;
-    for (size_t v = 0; v < views.size(); ++v) best = std::max(best, obs.Quality(v, f));
+    for (size_t k = first; k < last; ++k) best = std::max(best, obs.quality[k]);
     float lowest = std::numeric_limits<float>::max(), lowest_quality = 0;
-    for (size_t v = 0; v < views.size(); ++v) {
-      if (obs.Quality(v, f) <= 0) continue;
-      const double deviation =
-          std::min(1.0, obs.deviation[v * obs.num_faces + f] * deviation_scale);
+    for (size_t k = first; k < last; ++k) {
+      const float quality = obs.quality[k];
+      if (quality <= 0) continue;
+      const int v = static_cast<int>(obs.view[k]);
+      const double deviation = std::min(1.0, obs.deviation[k] * deviation_scale);
       const float cost =
-          static_cast<float>(1.0 - obs.Quality(v, f) / best + options.consensus_weight * deviation);
-      problem.candidate_labels.push_back(static_cast<int>(v));
+          static_cast<float>(1.0 - quality / best + options.consensus_weight * deviation);
+      problem.candidate_labels.push_back(v);
       problem.candidate_costs.push_back(cost);
       // Ties go to the higher quality (the face's best view when the consensus term is off).
-      if (cost < lowest || (cost == lowest && obs.Quality(v, f) > lowest_quality)) {
+      if (cost < lowest || (cost == lowest && quality > lowest_quality)) {
         lowest = cost;
-        lowest_quality = obs.Quality(v, f);
-        best_view[f] = static_cast<int>(v);
+        lowest_quality = quality;
+        best_view[f] = v;
       }
     }
     problem.offsets.push_back(problem.candidate_labels.size());
