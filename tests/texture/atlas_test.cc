@@ -149,7 +149,7 @@ TEST(ChartMask, CoversEveryTexelABilinearLookupInsideAFaceReads) {
     std::vector<Chart> charts(1);
     charts[0].view = 0;
     charts[0].faces = {0, 1};
-    const double face_texels = SetChartMasks(faces, pixels, {cv::Size(64, 64)}, gutter, &charts);
+    const double face_texels = SetChartMask(faces, pixels[0], cv::Size(64, 64), gutter, &charts[0]);
     // The quadrilateral's area by the shoelace formula.
     EXPECT_NEAR(face_texels,
                 0.5 * std::abs((40.2 - 10.3) * (44.6 - 12.7) - (37.9 - 10.3) * (15.1 - 12.7)) +

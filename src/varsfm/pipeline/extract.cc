@@ -28,9 +28,9 @@
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/path_lock.h"
-#include "varsfm/util/physical_memory.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
+#include "varsfm/util/usable_memory.h"
 
 namespace varsfm {
 namespace {

@@ -20,8 +20,7 @@ struct PairEstimate {
 };
 
 // The pairs in (i, j) order. View by view, so that only one view's log-ratios are held at once
-// (all pairs' at once grew with the square of the views seeing a face: gigabytes for a few
-// hundred photos of one street).
+// (all pairs' at once grew with the square of the views seeing a face; docs/measurements.md).
 std::vector<PairEstimate> PairEstimates(const FaceObservations& obs,
                                         const ExposureGainOptions& options) {
   const size_t num_views = obs.num_views;

@@ -45,7 +45,7 @@ struct FaceObservations {
   size_t num_views = 0;
   // The views that may texture each face, face by face and in view order: face f's entries are
   // [begin[f], begin[f + 1]). Sparse, as a view sees a part of a large model: a table of every
-  // view and face took 20 bytes a pair (7 GB for 200 views of 1.8 M faces).
+  // view and face grew with the views times the faces (docs/measurements.md).
   std::vector<size_t> begin;  // num_faces + 1
   std::vector<uint32_t> view;
   std::vector<float> quality;  // > 0 when observed; 0 once photo-consistency rejects the view

@@ -77,76 +77,64 @@ std::vector<Chart> GrowCharts(const std::vector<int>& labels,
   return charts;
 }
 
-std::vector<Chart> CutCharts(const std::vector<Chart>& charts,
-                             const std::vector<Eigen::Vector3i>& faces,
-                             const std::vector<std::vector<ProjectedVertex>>& pixels, int tile) {
+std::vector<Chart> CutChart(const Chart& chart, const std::vector<Eigen::Vector3i>& faces,
+                            const std::vector<ProjectedVertex>& pixels, int tile) {
   std::vector<Chart> pieces;
   std::map<std::pair<int, int>, size_t> piece_of_square;
-  for (const Chart& chart : charts) {
-    piece_of_square.clear();
-    const std::vector<ProjectedVertex>& projected = pixels[chart.view];
-    for (const int f : chart.faces) {
-      const Eigen::Vector2d centroid =
-          (projected[faces[f][0]].pixel + projected[faces[f][1]].pixel +
-           projected[faces[f][2]].pixel) /
-          3;
-      const std::pair<int, int> square(static_cast<int>(std::floor(centroid.x() / tile)),
-                                       static_cast<int>(std::floor(centroid.y() / tile)));
-      const auto [it, inserted] = piece_of_square.try_emplace(square, pieces.size());
-      if (inserted) {
-        pieces.emplace_back();
-        pieces.back().view = chart.view;
-      }
-      pieces[it->second].faces.push_back(f);
+  for (const int f : chart.faces) {
+    const Eigen::Vector2d centroid =
+        (pixels[faces[f][0]].pixel + pixels[faces[f][1]].pixel + pixels[faces[f][2]].pixel) / 3;
+    const std::pair<int, int> square(static_cast<int>(std::floor(centroid.x() / tile)),
+                                     static_cast<int>(std::floor(centroid.y() / tile)));
+    const auto [it, inserted] = piece_of_square.try_emplace(square, pieces.size());
+    if (inserted) {
+      pieces.emplace_back();
+      pieces.back().view = chart.view;
     }
+    pieces[it->second].faces.push_back(f);
   }
   return pieces;
 }
 
-double SetChartMasks(const std::vector<Eigen::Vector3i>& faces,
-                     const std::vector<std::vector<ProjectedVertex>>& pixels,
-                     const std::vector<cv::Size>& photo_sizes, int gutter,
-                     std::vector<Chart>* charts) {
+double SetChartMask(const std::vector<Eigen::Vector3i>& faces,
+                    const std::vector<ProjectedVertex>& pixels, cv::Size photo_size, int gutter,
+                    Chart* chart) {
   double face_texels = 0;
   const int margin = gutter + 1;
-  for (Chart& chart : *charts) {
-    const std::vector<ProjectedVertex>& projected = pixels[chart.view];
-    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
-    for (const int f : chart.faces) {
-      const Eigen::Vector2d& a = projected[faces[f][0]].pixel;
-      const Eigen::Vector2d e1 = projected[faces[f][1]].pixel - a;
-      const Eigen::Vector2d e2 = projected[faces[f][2]].pixel - a;
-      face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector2d& p = projected[faces[f][k]].pixel;
-        min_x = std::min(min_x, p.x());
-        min_y = std::min(min_y, p.y());
-        max_x = std::max(max_x, p.x());
-        max_y = std::max(max_y, p.y());
-      }
+  double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+  for (const int f : chart->faces) {
+    const Eigen::Vector2d& a = pixels[faces[f][0]].pixel;
+    const Eigen::Vector2d e1 = pixels[faces[f][1]].pixel - a;
+    const Eigen::Vector2d e2 = pixels[faces[f][2]].pixel - a;
+    face_texels += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d& p = pixels[faces[f][k]].pixel;
+      min_x = std::min(min_x, p.x());
+      min_y = std::min(min_y, p.y());
+      max_x = std::max(max_x, p.x());
+      max_y = std::max(max_y, p.y());
     }
-    const cv::Size size = photo_sizes[chart.view];
-    const int mx = size.width / 4, my = size.height / 4;
-    const int x0 = std::max(-mx, static_cast<int>(std::floor(min_x)) - margin);
-    const int y0 = std::max(-my, static_cast<int>(std::floor(min_y)) - margin);
-    const int x1 = std::min(size.width + mx, static_cast<int>(std::ceil(max_x)) + margin);
-    const int y1 = std::min(size.height + my, static_cast<int>(std::ceil(max_y)) + margin);
-    const cv::Rect box(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0));
-    cv::Mat mask(box.size(), CV_8UC1, cv::Scalar::all(0));
-    const Eigen::Vector2d corner(box.x, box.y);
-    for (const int f : chart.faces) {
-      MarkTriangle({projected[faces[f][0]].pixel - corner, projected[faces[f][1]].pixel - corner,
-                    projected[faces[f][2]].pixel - corner},
-                   &mask);
-    }
-    if (gutter > 0) {
-      const cv::Mat square = cv::Mat::ones(2 * gutter + 1, 2 * gutter + 1, CV_8UC1);
-      cv::dilate(mask, mask, square);
-    }
-    const cv::Rect used = cv::boundingRect(mask);  // trim the unused margin
-    chart.source = cv::Rect(box.x + used.x, box.y + used.y, used.width, used.height);
-    chart.mask = mask(used).clone();
   }
+  const int mx = photo_size.width / 4, my = photo_size.height / 4;
+  const int x0 = std::max(-mx, static_cast<int>(std::floor(min_x)) - margin);
+  const int y0 = std::max(-my, static_cast<int>(std::floor(min_y)) - margin);
+  const int x1 = std::min(photo_size.width + mx, static_cast<int>(std::ceil(max_x)) + margin);
+  const int y1 = std::min(photo_size.height + my, static_cast<int>(std::ceil(max_y)) + margin);
+  const cv::Rect box(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0));
+  cv::Mat mask(box.size(), CV_8UC1, cv::Scalar::all(0));
+  const Eigen::Vector2d corner(box.x, box.y);
+  for (const int f : chart->faces) {
+    MarkTriangle({pixels[faces[f][0]].pixel - corner, pixels[faces[f][1]].pixel - corner,
+                  pixels[faces[f][2]].pixel - corner},
+                 &mask);
+  }
+  if (gutter > 0) {
+    const cv::Mat square = cv::Mat::ones(2 * gutter + 1, 2 * gutter + 1, CV_8UC1);
+    cv::dilate(mask, mask, square);
+  }
+  const cv::Rect used = cv::boundingRect(mask);  // trim the unused margin
+  chart->source = cv::Rect(box.x + used.x, box.y + used.y, used.width, used.height);
+  chart->mask = mask(used).clone();
   return face_texels;
 }
 

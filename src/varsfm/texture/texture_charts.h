@@ -25,23 +25,22 @@ struct Chart {
 std::vector<Chart> GrowCharts(const std::vector<int>& labels,
                               const std::vector<std::array<int, 3>>& neighbours);
 
-// Cuts every chart into the pieces that fall in the squares of a grid of `tile` photo pixels
-// (each face goes with its centroid). Texels are the photo's own, with a gutter of the photo's
-// pixels around every piece, so a cut shows nowhere in a rendering; but the pieces are compact
-// where a whole chart is a long strip or a ring whose box would hold other charts' empty room,
-// and compact shapes pack densely. `pixels` as for SetChartMasks.
-std::vector<Chart> CutCharts(const std::vector<Chart>& charts,
-                             const std::vector<Eigen::Vector3i>& faces,
-                             const std::vector<std::vector<ProjectedVertex>>& pixels, int tile);
+// Cuts a chart into the pieces that fall in the squares of a grid of `tile` photo pixels (each
+// face goes with its centroid). Texels are the photo's own, with a gutter of the photo's pixels
+// around every piece, so a cut shows nowhere in a rendering; but the pieces are compact where a
+// whole chart is a long strip or a ring whose box would hold other charts' empty room, and
+// compact shapes pack densely. `pixels`: the vertices projected into the chart's view (full
+// resolution).
+std::vector<Chart> CutChart(const Chart& chart, const std::vector<Eigen::Vector3i>& faces,
+                            const std::vector<ProjectedVertex>& pixels, int tile);
 
-// Sets every chart's source box and mask: the texels its faces' projections touch, grown by
-// `gutter` texels (a square, as bilinear lookups reach one texel along x and y). `pixels[v]`:
-// the vertices projected into view v (full resolution). The box may reach outside the photo by
-// at most a quarter of its size (the part of a face beyond that samples the box's edge).
-// Returns the texels inside the faces, summed over the charts.
-double SetChartMasks(const std::vector<Eigen::Vector3i>& faces,
-                     const std::vector<std::vector<ProjectedVertex>>& pixels,
-                     const std::vector<cv::Size>& photo_sizes, int gutter,
-                     std::vector<Chart>* charts);
+// Sets a chart's source box and mask: the texels its faces' projections touch, grown by `gutter`
+// texels (a square, as bilinear lookups reach one texel along x and y). `pixels` as for
+// CutChart; `photo_size`: its view's. The box may reach outside the photo by at most a quarter of
+// its size (the part of a face beyond that samples the box's edge). Returns the texels inside
+// the chart's faces.
+double SetChartMask(const std::vector<Eigen::Vector3i>& faces,
+                    const std::vector<ProjectedVertex>& pixels, cv::Size photo_size, int gutter,
+                    Chart* chart);
 
 }  // namespace varsfm

@@ -203,28 +203,25 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera
 
   // The vertices' pixels in a view (full resolution, with distortion) are held for one view at
   // a time, while its charts are cut and masked and again while they are copied: every view's
-  // at once took 24 bytes a vertex and view (4.3 GB for 200 views of 0.9 M vertices).
+  // at once grew with the views times the vertices (docs/measurements.md).
   const auto project = [&](size_t v) {
     return ProjectVertices(mesh.vertices, views[v].camera, views[v].cam_from_world);
   };
-  std::vector<cv::Size> photo_sizes;
-  for (const PosedCamera& view : views)
-    photo_sizes.emplace_back(view.camera.width, view.camera.height);
   const int gutter = std::max(0, options.padding);
   {
     // Each chart cut into compact pieces, masked; the pieces in the charts' order.
     std::vector<std::vector<size_t>> grown_of_view(views.size());
     for (size_t c = 0; c < charts.size(); ++c) grown_of_view[charts[c].view].push_back(c);
     std::vector<std::vector<Chart>> pieces(charts.size());
-    std::vector<std::vector<ProjectedVertex>> projected(views.size());
     for (size_t v = 0; v < views.size(); ++v) {
       if (grown_of_view[v].empty()) continue;
-      projected[v] = project(v);
+      const std::vector<ProjectedVertex> pixels = project(v);
+      const cv::Size photo_size(views[v].camera.width, views[v].camera.height);
       for (const size_t c : grown_of_view[v]) {
-        pieces[c] = CutCharts({charts[c]}, mesh.faces, projected, options.chart_tile);
-        st.face_texels += SetChartMasks(mesh.faces, projected, photo_sizes, gutter, &pieces[c]);
+        pieces[c] = CutChart(charts[c], mesh.faces, pixels, options.chart_tile);
+        for (Chart& piece : pieces[c])
+          st.face_texels += SetChartMask(mesh.faces, pixels, photo_size, gutter, &piece);
       }
-      std::vector<ProjectedVertex>().swap(projected[v]);
     }
     charts.clear();
     for (std::vector<Chart>& list : pieces)

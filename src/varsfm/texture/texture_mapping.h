@@ -31,7 +31,7 @@ struct TextureMappingOptions {
   // Texels of chart colour bled into the empty atlas around charts, for viewers' mip-maps
   // (atlas_fill.h); 0: leave the background black.
   int bleed_rings = 8;
-  // Charts are cut along a grid of this many photo pixels (texture_charts.h: CutCharts) so that
+  // Charts are cut along a grid of this many photo pixels (texture_charts.h: CutChart) so that
   // long or ring-shaped charts pack densely; smaller squares add gutter texels along the cuts.
   int chart_tile = 256;
   int max_page_size = 8192;

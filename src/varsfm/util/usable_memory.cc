@@ -1,4 +1,4 @@
-#include "varsfm/util/physical_memory.h"
+#include "varsfm/util/usable_memory.h"
 
 #include <unistd.h>
 
