@@ -5,13 +5,10 @@
 #include <cmath>
 #include <numbers>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
+#include "varsfm/dense/window_warp.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/random.h"
@@ -62,10 +59,9 @@ struct SourceGeometry {
 // weighted mean and variance of the intensities (they do not depend on the hypothesis).
 struct ReferenceWindow {
   int count = 0;
-  // Padded to whole groups of four (the SSE2 path of WarpedSamples reads them; the padding's
-  // offsets are 0, the centre).
-  alignas(16) std::array<float, kMaxSamples + 3> dx, dy;
-  std::array<float, kMaxSamples> value, weight;
+  // Padded to whole groups of kWarpLanes with zeros (window_warp.h).
+  static constexpr int kPadded = (kMaxSamples + kWarpLanes - 1) / kWarpLanes * kWarpLanes;
+  alignas(32) std::array<float, kPadded> dx, dy, value, weight;
   float weight_sum = 0, mean = 0, variance = 0;
 };
 
@@ -81,14 +77,6 @@ struct ReferenceWindow {
   const float* r1 = r0 + s.width;
   return (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
 }
-
-#if defined(__SSE2__)
-// Two adjacent floats (p[0], p[1]) in the low lanes of a register, by one 64-bit load (__m64
-// may alias any type).
-[[gnu::always_inline]] inline __m128 Pair(const float* p) {
-  return _mm_loadl_pi(_mm_setzero_ps(), reinterpret_cast<const __m64*>(p));
-}
-#endif
 
 class DepthMapEstimator {
  public:
@@ -202,7 +190,8 @@ class DepthMapEstimator {
         w->dx[c] = dx, w->dy[c] = dy, w->value[c] = v, w->weight[c] = weight;
         sum_w += weight, sum_v += weight * v, sum_vv += weight * v * v;
       }
-    for (int c = w->count; c < w->count + 3; ++c) w->dx[c] = w->dy[c] = 0;
+    for (int c = w->count; c < ReferenceWindow::kPadded; ++c)
+      w->dx[c] = w->dy[c] = w->value[c] = w->weight[c] = 0;
     w->weight_sum = static_cast<float>(sum_w);
     w->mean = static_cast<float>(sum_v / sum_w);
     w->variance = static_cast<float>(sum_vv / sum_w - (sum_v / sum_w) * (sum_v / sum_w));
@@ -235,66 +224,6 @@ class DepthMapEstimator {
            (1 - std::exp(-0.5f * (e_d * e_d + e_n * e_n)));
   }
 
-  // The source's intensities at the window's samples warped by H (h0: the centre's image);
-  // false when a sample falls behind the source camera. Four samples at a time where SSE2
-  // exists, with the scalar path's operations in its order, so both give the same bits (in a
-  // build without FMA contraction, the default).
-  static bool WarpedSamples(const ReferenceWindow& w, const SourceGeometry& s,
-                            const Eigen::Matrix3f& H, const Eigen::Vector3f& h0, float* out) {
-#if defined(__SSE2__)
-    const __m128 h0x = _mm_set1_ps(h0.x()), h0y = _mm_set1_ps(h0.y()), h0z = _mm_set1_ps(h0.z());
-    const __m128 ax = _mm_set1_ps(H(0, 0)), ay = _mm_set1_ps(H(1, 0)), az = _mm_set1_ps(H(2, 0));
-    const __m128 bx = _mm_set1_ps(H(0, 1)), by = _mm_set1_ps(H(1, 1)), bz = _mm_set1_ps(H(2, 1));
-    const __m128 min_z = _mm_set1_ps(1e-6f), half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
-    const __m128 one = _mm_set1_ps(1.0f);
-    const __m128 max_x = _mm_set1_ps(s.width - 1.001f), max_y = _mm_set1_ps(s.height - 1.001f);
-    for (int i = 0; i < w.count; i += 4) {
-      const __m128 dx = _mm_load_ps(&w.dx[i]), dy = _mm_load_ps(&w.dy[i]);
-      // h = (h0 + H.col(0) dx) + H.col(1) dy, as Eigen evaluates it.
-      const __m128 hx = _mm_add_ps(_mm_add_ps(h0x, _mm_mul_ps(ax, dx)), _mm_mul_ps(bx, dy));
-      const __m128 hy = _mm_add_ps(_mm_add_ps(h0y, _mm_mul_ps(ay, dx)), _mm_mul_ps(by, dy));
-      const __m128 hz = _mm_add_ps(_mm_add_ps(h0z, _mm_mul_ps(az, dx)), _mm_mul_ps(bz, dy));
-      const int lanes = std::min(4, w.count - i);
-      if (_mm_movemask_ps(_mm_cmple_ps(hz, min_z)) & ((1 << lanes) - 1)) return false;
-      // Sample(): the centre-based coordinates clamped to the border, then bilinear.
-      const __m128 x = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hx, hz), half), zero), max_x);
-      const __m128 y = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hy, hz), half), zero), max_y);
-      const __m128i x0 = _mm_cvttps_epi32(x), y0 = _mm_cvttps_epi32(y);
-      const __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(x0));
-      const __m128 fy = _mm_sub_ps(y, _mm_cvtepi32_ps(y0));
-      alignas(16) int32_t xs[4], ys[4];
-      _mm_store_si128(reinterpret_cast<__m128i*>(xs), x0);
-      _mm_store_si128(reinterpret_cast<__m128i*>(ys), y0);
-      // Each lane's 2 x 2 neighbourhood as (p00, p01) and (p10, p11) pairs, gathered into
-      // registers directly (scalar stores read back as a vector would stall store forwarding).
-      const float* r[4];
-      for (int l = 0; l < 4; ++l) r[l] = s.pixels + static_cast<size_t>(ys[l]) * s.width + xs[l];
-      const size_t w1 = static_cast<size_t>(s.width);
-      const __m128 top0 = Pair(r[0]), top1 = Pair(r[1]), top2 = Pair(r[2]), top3 = Pair(r[3]);
-      const __m128 bot0 = Pair(r[0] + w1), bot1 = Pair(r[1] + w1), bot2 = Pair(r[2] + w1),
-                   bot3 = Pair(r[3] + w1);
-      // t01 = (left 0, right 0, left 1, right 1): the even lanes are the left pixels.
-      const __m128 t01 = _mm_movelh_ps(top0, top1), t23 = _mm_movelh_ps(top2, top3);
-      const __m128 b01 = _mm_movelh_ps(bot0, bot1), b23 = _mm_movelh_ps(bot2, bot3);
-      const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m128 a01 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(3, 1, 3, 1));
-      const __m128 a10 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
-      const __m128 a11 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-      const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
-      const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
-      _mm_store_ps(out + i,
-                   _mm_add_ps(_mm_mul_ps(top, _mm_sub_ps(one, fy)), _mm_mul_ps(bottom, fy)));
-    }
-#else
-    for (int i = 0; i < w.count; ++i) {
-      const Eigen::Vector3f h = h0 + H.col(0) * w.dx[i] + H.col(1) * w.dy[i];
-      if (h.z() <= 1e-6f) return false;
-      out[i] = Sample(s, h.x() / h.z(), h.y() / h.z());
-    }
-#endif
-    return true;
-  }
-
   // 1 - bilateral-weighted NCC of the window against its warp into source s (Schoenberger et al.
   // 2016, eq. 9); kOutOfView when the centre falls behind the source or outside its image,
   // kMaxCost when a window sample falls behind it or the warped window is flat.
@@ -305,14 +234,11 @@ class DepthMapEstimator {
     if (h0.z() <= 1e-6f) return kOutOfView;
     const float cx = h0.x() / h0.z(), cy = h0.y() / h0.z();
     if (cx < 0 || cy < 0 || cx >= s.width || cy >= s.height) return kOutOfView;
-    alignas(16) std::array<float, kMaxSamples + 3> warped;
-    if (!WarpedSamples(w, s, H, h0, warped.data())) return kMaxCost;
-    float sum_s = 0, sum_ss = 0, sum_rs = 0;
-    for (int i = 0; i < w.count; ++i) {
-      const float v = warped[i];
-      const float wv = w.weight[i] * v;
-      sum_s += wv, sum_ss += wv * v, sum_rs += wv * w.value[i];
-    }
+    WarpSums sums;
+    const WarpWindow window{w.dx.data(), w.dy.data(), w.value.data(), w.weight.data(), w.count};
+    if (!WarpAndSum(window, {s.pixels, s.width, s.height}, H.data(), h0.data(), &sums))
+      return kMaxCost;
+    const float sum_s = sums.s, sum_ss = sums.ss, sum_rs = sums.rs;
     const float mean_s = sum_s / w.weight_sum;
     const float var_s = sum_ss / w.weight_sum - mean_s * mean_s;
     if (var_s < options_.min_ncc_variance) return kMaxCost;
