@@ -78,6 +78,14 @@ struct ReferenceWindow {
   return (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
 }
 
+// M (x, y, 1)^T, summed as Eigen's coefficient-based product sums a row, but inlined: GCC left
+// Eigen's product a call in the per-view cost.
+[[gnu::always_inline]] inline Eigen::Vector3f TimesPoint(const Eigen::Matrix3f& M, float x,
+                                                         float y) {
+  return {M(0, 0) * x + (M(0, 1) * y + M(0, 2)), M(1, 0) * x + (M(1, 1) * y + M(1, 2)),
+          M(2, 0) * x + (M(2, 1) * y + M(2, 2))};
+}
+
 class DepthMapEstimator {
  public:
   // `upsampled` (null, or the reference's size): the planes of the next coarser level, or of the
@@ -167,7 +175,7 @@ class DepthMapEstimator {
   }
 
   Eigen::Vector3f Ray(int x, int y) const {
-    return K_inv_ * Eigen::Vector3f(x + 0.5f, y + 0.5f, 1.0f);
+    return TimesPoint(K_inv_, x + 0.5f, y + 0.5f);
   }
 
   void BuildWindow(int x, int y, ReferenceWindow* w) const {
@@ -230,7 +238,7 @@ class DepthMapEstimator {
   float ViewCost(const ReferenceWindow& w, const SourceGeometry& s, const Eigen::Vector3f& m,
                  float inv_c, float px, float py) const {
     const Eigen::Matrix3f H = s.A + s.b * (m.transpose() * inv_c);
-    const Eigen::Vector3f h0 = H * Eigen::Vector3f(px, py, 1.0f);
+    const Eigen::Vector3f h0 = TimesPoint(H, px, py);
     if (h0.z() <= 1e-6f) return kOutOfView;
     const float cx = h0.x() / h0.z(), cy = h0.y() / h0.z();
     if (cx < 0 || cy < 0 || cx >= s.width || cy >= s.height) return kOutOfView;
@@ -253,14 +261,14 @@ class DepthMapEstimator {
   float GeometricCost(const SourceGeometry& s, float depth, float px, float py) const {
     const float cap = static_cast<float>(options_.geometric_max_error);
     const float weight = static_cast<float>(options_.geometric_weight);
-    const Eigen::Vector3f q = depth * (s.A * Eigen::Vector3f(px, py, 1.0f)) + s.b;
+    const Eigen::Vector3f q = depth * TimesPoint(s.A, px, py) + s.b;
     if (!s.map || q.z() <= 1e-6f) return weight * cap;
     const float qx = q.x() / q.z(), qy = q.y() / q.z();
     if (!(qx >= 0 && qy >= 0 && qx < s.width && qy < s.height)) return weight * cap;
     const size_t j = s.map->Index(static_cast<int>(qx), static_cast<int>(qy));
     const float d = s.map->depth[j];
     if (d <= 0 || s.map->cost[j] > options_.max_cost) return weight * cap;
-    const Eigen::Vector3f back = d * (s.A_back * Eigen::Vector3f(qx, qy, 1.0f)) - s.b_back;
+    const Eigen::Vector3f back = d * TimesPoint(s.A_back, qx, qy) - s.b_back;
     if (back.z() <= 1e-6f) return weight * cap;
     const float error = std::hypot(back.x() / back.z() - px, back.y() / back.z() - py);
     return weight * std::min(error, cap);

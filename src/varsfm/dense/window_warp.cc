@@ -38,54 +38,69 @@ inline __m128 Pair(const float* p) {
   return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p)));
 }
 
+// Samples [i, i + 4): their warped intensities into *v. False when one of them that holds a
+// sample falls behind the source.
+[[gnu::always_inline]] inline bool Warp4(const WarpWindow& w, const WarpSource& src, const float* H,
+                                         const float* h0, int i, __m128* v) {
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+  const __m128 dx = _mm_load_ps(w.dx + i), dy = _mm_load_ps(w.dy + i);
+  // h = (h0 + H.col(0) dx) + H.col(1) dy.
+  const __m128 hx = _mm_add_ps(_mm_add_ps(_mm_set1_ps(h0[0]), _mm_mul_ps(_mm_set1_ps(H[0]), dx)),
+                               _mm_mul_ps(_mm_set1_ps(H[3]), dy));
+  const __m128 hy = _mm_add_ps(_mm_add_ps(_mm_set1_ps(h0[1]), _mm_mul_ps(_mm_set1_ps(H[1]), dx)),
+                               _mm_mul_ps(_mm_set1_ps(H[4]), dy));
+  const __m128 hz = _mm_add_ps(_mm_add_ps(_mm_set1_ps(h0[2]), _mm_mul_ps(_mm_set1_ps(H[2]), dx)),
+                               _mm_mul_ps(_mm_set1_ps(H[5]), dy));
+  if (_mm_movemask_ps(_mm_cmple_ps(hz, _mm_set1_ps(1e-6f))) & LiveLanes(i, w.count, 4))
+    return false;
+  // The centre-based coordinates clamped to the border, then bilinear.
+  const __m128 max_x = _mm_set1_ps(src.width - 1.001f), max_y = _mm_set1_ps(src.height - 1.001f);
+  const __m128 x = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hx, hz), half), zero), max_x);
+  const __m128 y = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hy, hz), half), zero), max_y);
+  const __m128i x0 = _mm_cvttps_epi32(x), y0 = _mm_cvttps_epi32(y);
+  const __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(x0));
+  const __m128 fy = _mm_sub_ps(y, _mm_cvtepi32_ps(y0));
+  alignas(16) int32_t xs[4], ys[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(xs), x0);
+  _mm_store_si128(reinterpret_cast<__m128i*>(ys), y0);
+  // Each lane's 2 x 2 neighbourhood as (p00, p01) and (p10, p11) pairs, gathered into
+  // registers directly (scalar stores read back as a vector would stall store forwarding).
+  const size_t w1 = static_cast<size_t>(src.width);
+  const float* r[4];
+  for (int l = 0; l < 4; ++l) r[l] = src.pixels + static_cast<size_t>(ys[l]) * w1 + xs[l];
+  // t01 = (left 0, right 0, left 1, right 1): the even lanes are the left pixels.
+  const __m128 t01 = _mm_movelh_ps(Pair(r[0]), Pair(r[1]));
+  const __m128 t23 = _mm_movelh_ps(Pair(r[2]), Pair(r[3]));
+  const __m128 b01 = _mm_movelh_ps(Pair(r[0] + w1), Pair(r[1] + w1));
+  const __m128 b23 = _mm_movelh_ps(Pair(r[2] + w1), Pair(r[3] + w1));
+  const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128 a01 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(3, 1, 3, 1));
+  const __m128 a10 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m128 a11 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
+  const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
+  const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
+  *v = _mm_add_ps(_mm_mul_ps(top, _mm_sub_ps(one, fy)), _mm_mul_ps(bottom, fy));
+  return true;
+}
+
+// Adds samples [i, i + 4)'s terms, their intensities v, to the partial sums of lanes 0-3 or 4-7.
+[[gnu::always_inline]] inline void Accumulate4(const WarpWindow& w, int i, __m128 v, __m128* s,
+                                               __m128* ss, __m128* rs) {
+  const __m128 wv = _mm_mul_ps(_mm_load_ps(w.weight + i), v);
+  *s = _mm_add_ps(*s, wv);
+  *ss = _mm_add_ps(*ss, _mm_mul_ps(wv, v));
+  *rs = _mm_add_ps(*rs, _mm_mul_ps(wv, _mm_load_ps(w.value + i)));
+}
+
 bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, const float* h0,
                     WarpSums* sums) {
-  const __m128 h0x = _mm_set1_ps(h0[0]), h0y = _mm_set1_ps(h0[1]), h0z = _mm_set1_ps(h0[2]);
-  const __m128 ax = _mm_set1_ps(H[0]), ay = _mm_set1_ps(H[1]), az = _mm_set1_ps(H[2]);
-  const __m128 bx = _mm_set1_ps(H[3]), by = _mm_set1_ps(H[4]), bz = _mm_set1_ps(H[5]);
-  const __m128 min_z = _mm_set1_ps(1e-6f), half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
-  const __m128 one = _mm_set1_ps(1.0f);
-  const __m128 max_x = _mm_set1_ps(src.width - 1.001f), max_y = _mm_set1_ps(src.height - 1.001f);
-  const size_t w1 = static_cast<size_t>(src.width);
   // Lanes 0-3 and 4-7 of the eight-lane partial sums.
-  __m128 acc_s[2] = {zero, zero}, acc_ss[2] = {zero, zero}, acc_rs[2] = {zero, zero};
+  __m128 acc_s[2] = {}, acc_ss[2] = {}, acc_rs[2] = {};
   for (int i = 0; i < w.count; i += 4) {
-    const __m128 dx = _mm_load_ps(w.dx + i), dy = _mm_load_ps(w.dy + i);
-    // h = (h0 + H.col(0) dx) + H.col(1) dy.
-    const __m128 hx = _mm_add_ps(_mm_add_ps(h0x, _mm_mul_ps(ax, dx)), _mm_mul_ps(bx, dy));
-    const __m128 hy = _mm_add_ps(_mm_add_ps(h0y, _mm_mul_ps(ay, dx)), _mm_mul_ps(by, dy));
-    const __m128 hz = _mm_add_ps(_mm_add_ps(h0z, _mm_mul_ps(az, dx)), _mm_mul_ps(bz, dy));
-    if (_mm_movemask_ps(_mm_cmple_ps(hz, min_z)) & LiveLanes(i, w.count, 4)) return false;
-    // The centre-based coordinates clamped to the border, then bilinear.
-    const __m128 x = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hx, hz), half), zero), max_x);
-    const __m128 y = _mm_min_ps(_mm_max_ps(_mm_sub_ps(_mm_div_ps(hy, hz), half), zero), max_y);
-    const __m128i x0 = _mm_cvttps_epi32(x), y0 = _mm_cvttps_epi32(y);
-    const __m128 fx = _mm_sub_ps(x, _mm_cvtepi32_ps(x0));
-    const __m128 fy = _mm_sub_ps(y, _mm_cvtepi32_ps(y0));
-    alignas(16) int32_t xs[4], ys[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(xs), x0);
-    _mm_store_si128(reinterpret_cast<__m128i*>(ys), y0);
-    // Each lane's 2 x 2 neighbourhood as (p00, p01) and (p10, p11) pairs, gathered into
-    // registers directly (scalar stores read back as a vector would stall store forwarding).
-    const float* r[4];
-    for (int l = 0; l < 4; ++l) r[l] = src.pixels + static_cast<size_t>(ys[l]) * w1 + xs[l];
-    // t01 = (left 0, right 0, left 1, right 1): the even lanes are the left pixels.
-    const __m128 t01 = _mm_movelh_ps(Pair(r[0]), Pair(r[1]));
-    const __m128 t23 = _mm_movelh_ps(Pair(r[2]), Pair(r[3]));
-    const __m128 b01 = _mm_movelh_ps(Pair(r[0] + w1), Pair(r[1] + w1));
-    const __m128 b23 = _mm_movelh_ps(Pair(r[2] + w1), Pair(r[3] + w1));
-    const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 a01 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 a10 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m128 a11 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
-    const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
-    const __m128 v = _mm_add_ps(_mm_mul_ps(top, _mm_sub_ps(one, fy)), _mm_mul_ps(bottom, fy));
-    const __m128 wv = _mm_mul_ps(_mm_load_ps(w.weight + i), v);
-    const int half_lanes = (i / 4) % 2;
-    acc_s[half_lanes] = _mm_add_ps(acc_s[half_lanes], wv);
-    acc_ss[half_lanes] = _mm_add_ps(acc_ss[half_lanes], _mm_mul_ps(wv, v));
-    acc_rs[half_lanes] = _mm_add_ps(acc_rs[half_lanes], _mm_mul_ps(wv, _mm_load_ps(w.value + i)));
+    __m128 v;
+    if (!Warp4(w, src, H, h0, i, &v)) return false;
+    const int k = (i / 4) % 2;
+    Accumulate4(w, i, v, &acc_s[k], &acc_ss[k], &acc_rs[k]);
   }
   float s[kWarpLanes], ss[kWarpLanes], rs[kWarpLanes];
   for (int k = 0; k < 2; ++k) {
@@ -146,7 +161,8 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
   const __m256 max_y = _mm256_set1_ps(src.height - 1.001f);
   const size_t w1 = static_cast<size_t>(src.width);
   __m256 acc_s = zero, acc_ss = zero, acc_rs = zero;
-  for (int i = 0; i < w.count; i += kWarpLanes) {
+  int i = 0;
+  for (; w.count - i > 4; i += kWarpLanes) {
     const __m256 dx = _mm256_load_ps(w.dx + i), dy = _mm256_load_ps(w.dy + i);
     const __m256 hx =
         _mm256_add_ps(_mm256_add_ps(h0x, _mm256_mul_ps(ax, dx)), _mm256_mul_ps(bx, dy));
@@ -187,6 +203,18 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
     acc_s = _mm256_add_ps(acc_s, wv);
     acc_ss = _mm256_add_ps(acc_ss, _mm256_mul_ps(wv, v));
     acc_rs = _mm256_add_ps(acc_rs, _mm256_mul_ps(wv, _mm256_load_ps(w.value + i)));
+  }
+  // At most four samples left: one SSE-wide step into lanes 0-3, rather than a whole register of
+  // mostly padding (the default window has 25 samples: 3 x 8 + 1).
+  if (i < w.count) {
+    __m128 v;
+    if (!Warp4(w, src, H, h0, i, &v)) return false;
+    __m128 s = _mm256_castps256_ps128(acc_s), ss = _mm256_castps256_ps128(acc_ss);
+    __m128 rs = _mm256_castps256_ps128(acc_rs);
+    Accumulate4(w, i, v, &s, &ss, &rs);
+    acc_s = _mm256_insertf128_ps(acc_s, s, 0);
+    acc_ss = _mm256_insertf128_ps(acc_ss, ss, 0);
+    acc_rs = _mm256_insertf128_ps(acc_rs, rs, 0);
   }
   float s[kWarpLanes], ss[kWarpLanes], rs[kWarpLanes];
   _mm256_storeu_ps(s, acc_s);
