@@ -174,9 +174,7 @@ class DepthMapEstimator {
     tbb::parallel_for(0, map_.height, [&](int y) { row(y); });
   }
 
-  Eigen::Vector3f Ray(int x, int y) const {
-    return TimesPoint(K_inv_, x + 0.5f, y + 0.5f);
-  }
+  Eigen::Vector3f Ray(int x, int y) const { return TimesPoint(K_inv_, x + 0.5f, y + 0.5f); }
 
   void BuildWindow(int x, int y, ReferenceWindow* w) const {
     const int step = options_.window_step;
