@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 
+#include <open3d/geometry/KDTreeFlann.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -88,39 +92,30 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
   return out;
 }
 
-double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t samples) {
+double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < 2) Fail("need at least two points to estimate the point spacing");
-  Eigen::Vector3d lo = points[0], hi = points[0];
-  for (const auto& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  // Start from the spacing of points spread evenly over the bounding box's surface, then grow
-  // the search cell until every sampled point finds a neighbour.
-  const Eigen::Vector3d e = (hi - lo).cwiseMax(1e-12);
-  const double area = 2 * (e.x() * e.y() + e.y() * e.z() + e.x() * e.z());
-  double cell = std::max(std::sqrt(area / points.size()), 1e-9);
-  const size_t stride = std::max<size_t>(1, points.size() / samples);
-  for (int attempt = 0; attempt < 60; ++attempt, cell *= 2) {
-    CellMap cells;
-    for (size_t i = 0; i < points.size(); ++i) cells[Key(CellOf(points[i], cell))].push_back(i);
-    double sum = 0;
-    size_t count = 0;
-    bool all_found = true;
-    for (size_t i = 0; i < points.size() && all_found; i += stride) {
-      const Cell c = CellOf(points[i], cell);
-      double best = std::numeric_limits<double>::infinity();
-      ForEachInNeighbourCells(cells, c, [&](size_t j) {
-        if (j != i) best = std::min(best, (points[j] - points[i]).squaredNorm());
-      });
-      // A neighbour beyond one cell might be beaten by one further out: only trust d <= cell.
-      if (best > cell * cell) all_found = false;
-      sum += std::sqrt(best);
-      ++count;
-    }
-    if (all_found) return sum / count;
-  }
-  Fail("cannot estimate the point spacing (all points coincide?)");
+  // Every point's nearest other point, not a sample's: the distances are heavy-tailed (the mean
+  // is 1.25 to 1.42 times the median on kermit's and ET's clouds), so the mean of 2000 of them
+  // moved by 8 to 26 % with which points were sampled, and the Delaunay surface's merge voxel with
+  // it (docs/measurements.md).
+  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
+  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
+  const open3d::geometry::KDTreeFlann tree(data);
+  std::vector<double> nearest(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size()),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      std::vector<int> index(2);
+                      std::vector<double> squared(2);
+                      for (size_t i = range.begin(); i < range.end(); ++i) {
+                        // The point itself and its nearest other (a duplicate: either order,
+                        // both at 0).
+                        tree.SearchKNN(points[i], 2, index, squared);
+                        nearest[i] = squared.size() < 2 ? 0.0 : std::sqrt(squared[1]);
+                      }
+                    });
+  double sum = 0;
+  for (const double d : nearest) sum += d;  // in point order: the same sum for any threads
+  return sum / static_cast<double>(points.size());
 }
 
 PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size)

@@ -16,9 +16,8 @@ namespace varsfm {
 // mean, visibility: the union). voxel_size <= 0 returns the cloud unchanged.
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size);
 
-// Mean distance from each point to its nearest other point, estimated on at most `samples`
-// points (evenly strided, so deterministic). Needs at least two points.
-double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points, size_t samples = 2000);
+// Mean distance from each point to its nearest other point. Needs at least two points.
+double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points);
 
 class PointGrid {
  public:
