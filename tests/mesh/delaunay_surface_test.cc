@@ -13,7 +13,7 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/mesh/mesh_topology.h"
-#include "varsfm/mesh/point_grid.h"
+#include "varsfm/mesh/nearest_points.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
 #include "varsfm/scene/holdout.h"

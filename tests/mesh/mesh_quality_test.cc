@@ -57,7 +57,7 @@ TEST(MeshQuality, RobustExtentIgnoresFarOutliers) {
 
 TEST(MeshQuality, AMeshOnItsPointsPasses) {
   const Grid grid = MakeGrid(60, 0);
-  const MeshQuality quality = MeasureMeshQuality(grid.mesh, grid.points, kSpacing);
+  const MeshQuality quality = MeasureMeshQuality(grid.mesh, NearestPoints(grid.points), kSpacing);
   EXPECT_EQ(quality.num_faces, 2u * 59 * 59);
   EXPECT_EQ(quality.median_distance, 0);
   EXPECT_EQ(CheckMessage(quality), "");
@@ -66,23 +66,25 @@ TEST(MeshQuality, AMeshOnItsPointsPasses) {
 TEST(MeshQuality, AMeshOffItsPointsFailsNamingTheDistance) {
   // Lifted by 1 % of the unit square: the median distance is 0.01, above 0.5 % of the extent.
   const Grid grid = MakeGrid(60, 0.01);
-  const MeshQuality quality = MeasureMeshQuality(grid.mesh, grid.points, kSpacing);
+  const MeshQuality quality = MeasureMeshQuality(grid.mesh, NearestPoints(grid.points), kSpacing);
   EXPECT_NEAR(quality.median_distance, 0.01, 1e-12);
   const std::string message = CheckMessage(quality);
   EXPECT_NE(message.find("median 0.01 from the points"), std::string::npos) << message;
   EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   // Lifted by 0.1 %: within the limit.
   const Grid close = MakeGrid(60, 0.001);
-  EXPECT_EQ(CheckMessage(MeasureMeshQuality(close.mesh, close.points, kSpacing)), "");
+  EXPECT_EQ(CheckMessage(MeasureMeshQuality(close.mesh, NearestPoints(close.points), kSpacing)),
+            "");
   // A cloud too sparse for 0.5 % of its extent is held to its spacing instead.
-  EXPECT_EQ(CheckMessage(MeasureMeshQuality(grid.mesh, grid.points, 0.02)), "");
+  EXPECT_EQ(CheckMessage(MeasureMeshQuality(grid.mesh, NearestPoints(grid.points), 0.02)), "");
 }
 
 TEST(MeshQuality, ATinyMeshFailsNamingItsSize) {
   // Two triangles over 3600 points: a collapsed surface.
   const Grid dense = MakeGrid(60, 0);
   const Grid coarse = MakeGrid(2, 0);
-  const MeshQuality quality = MeasureMeshQuality(coarse.mesh, dense.points, kSpacing);
+  const MeshQuality quality =
+      MeasureMeshQuality(coarse.mesh, NearestPoints(dense.points), kSpacing);
   const std::string message = CheckMessage(quality);
   EXPECT_NE(message.find("2 faces from 3600 points"), std::string::npos) << message;
 }

@@ -65,19 +65,6 @@ struct ReferenceWindow {
   float weight_sum = 0, mean = 0, variance = 0;
 };
 
-// Forced inline: it runs for every window sample of every hypothesis, and GCC at -O2 leaves it
-// a call.
-[[gnu::always_inline]] inline float Sample(const SourceGeometry& s, float x, float y) {
-  // Pixel centres at (i + 0.5, j + 0.5); clamped to the border.
-  x = std::clamp(x - 0.5f, 0.0f, s.width - 1.001f);
-  y = std::clamp(y - 0.5f, 0.0f, s.height - 1.001f);
-  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-  const float fx = x - x0, fy = y - y0;
-  const float* r0 = s.pixels + static_cast<size_t>(y0) * s.width + x0;
-  const float* r1 = r0 + s.width;
-  return (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
-}
-
 // M (x, y, 1)^T, summed as Eigen's coefficient-based product sums a row, but inlined: GCC left
 // Eigen's product a call in the per-view cost.
 [[gnu::always_inline]] inline Eigen::Vector3f TimesPoint(const Eigen::Matrix3f& M, float x,
@@ -180,6 +167,7 @@ class DepthMapEstimator {
     const int step = options_.window_step;
     const int k = options_.window_radius / step;
     const float centre = ref_.pixels[map_.Index(x, y)];
+    const WarpSource reference{ref_.pixels, ref_.width, ref_.height};
     const float color_factor =
         -0.5f / static_cast<float>(options_.sigma_color * options_.sigma_color);
     const float space_factor =
@@ -189,7 +177,7 @@ class DepthMapEstimator {
     for (int j = -k; j <= k; ++j)
       for (int i = -k; i <= k; ++i) {
         const float dx = static_cast<float>(i * step), dy = static_cast<float>(j * step);
-        const float v = Sample(ref_, x + 0.5f + dx, y + 0.5f + dy);
+        const float v = SampleBilinear(reference, x + 0.5f + dx, y + 0.5f + dy);
         const float weight = std::exp(color_factor * (v - centre) * (v - centre) +
                                       space_factor * (dx * dx + dy * dy));
         const int c = w->count++;
@@ -244,11 +232,10 @@ class DepthMapEstimator {
     const WarpWindow window{w.dx.data(), w.dy.data(), w.value.data(), w.weight.data(), w.count};
     if (!WarpAndSum(window, {s.pixels, s.width, s.height}, H.data(), h0.data(), &sums))
       return kMaxCost;
-    const float sum_s = sums.s, sum_ss = sums.ss, sum_rs = sums.rs;
-    const float mean_s = sum_s / w.weight_sum;
-    const float var_s = sum_ss / w.weight_sum - mean_s * mean_s;
+    const float mean_s = sums.s / w.weight_sum;
+    const float var_s = sums.ss / w.weight_sum - mean_s * mean_s;
     if (var_s < options_.min_ncc_variance) return kMaxCost;
-    const float cov = sum_rs / w.weight_sum - w.mean * mean_s;
+    const float cov = sums.rs / w.weight_sum - w.mean * mean_s;
     const float ncc = cov / std::sqrt(w.variance * var_s);
     return std::clamp(1.0f - ncc, 0.0f, kMaxCost);
   }

@@ -113,23 +113,16 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
 }
 #endif
 
-// The portable path, one sample at a time.
+// The portable path, one sample at a time (each lane's operations as SampleBilinear's).
 bool WarpAndSumPlain(const WarpWindow& w, const WarpSource& src, const float* H, const float* h0,
                      WarpSums* sums) {
   float s[kWarpLanes] = {}, ss[kWarpLanes] = {}, rs[kWarpLanes] = {};
-  const float max_x = src.width - 1.001f, max_y = src.height - 1.001f;
   for (int i = 0; i < w.count; ++i) {
     const float hx = (h0[0] + H[0] * w.dx[i]) + H[3] * w.dy[i];
     const float hy = (h0[1] + H[1] * w.dx[i]) + H[4] * w.dy[i];
     const float hz = (h0[2] + H[2] * w.dx[i]) + H[5] * w.dy[i];
     if (hz <= 1e-6f) return false;
-    const float x = std::min(std::max(hx / hz - 0.5f, 0.0f), max_x);
-    const float y = std::min(std::max(hy / hz - 0.5f, 0.0f), max_y);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-    const float* r0 = src.pixels + static_cast<size_t>(y0) * src.width + x0;
-    const float* r1 = r0 + src.width;
-    const float v = (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
+    const float v = SampleBilinear(src, hx / hz, hy / hz);
     const float wv = w.weight[i] * v;
     const int l = i % kWarpLanes;
     s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];

@@ -8,6 +8,9 @@
 // same order (no FMA: the AVX2 kernel does not enable it) and adds up the lanes' partial sums the
 // same way, so all give the same bits.
 
+#include <algorithm>
+#include <cstddef>
+
 namespace varsfm {
 
 inline constexpr int kWarpLanes = 8;
@@ -28,6 +31,19 @@ struct WarpSource {
   const float* pixels = nullptr;
   int width = 0, height = 0;
 };
+
+// The bilinear intensity at (x, y), pixel centres at (i + 0.5, j + 0.5), clamped to the border.
+// Forced inline: PatchMatch runs it for every reference window sample, and GCC at -O2 leaves it
+// a call.
+[[gnu::always_inline]] inline float SampleBilinear(const WarpSource& s, float x, float y) {
+  x = std::clamp(x - 0.5f, 0.0f, s.width - 1.001f);
+  y = std::clamp(y - 0.5f, 0.0f, s.height - 1.001f);
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+  const float* r0 = s.pixels + static_cast<size_t>(y0) * s.width + x0;
+  const float* r1 = r0 + s.width;
+  return (r0[0] + fx * (r0[1] - r0[0])) * (1 - fy) + (r1[0] + fx * (r1[1] - r1[0])) * fy;
+}
 
 // Over the window, with v the warped source intensity, r the reference's and w the weight:
 // sum w v, sum w v^2 and sum w v r.

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <open3d/geometry/KDTreeFlann.h>
-
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/statistics.h"
@@ -36,8 +34,9 @@ double RobustExtent(const std::vector<Eigen::Vector3d>& points) {
   return size.norm();
 }
 
-MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const NearestPoints& cloud,
                                double spacing) {
+  const std::vector<Eigen::Vector3d>& points = cloud.points();
   MeshQuality quality;
   quality.spacing = spacing;
   quality.num_points = points.size();
@@ -45,17 +44,7 @@ MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const std::vector<Eigen
   quality.num_faces = mesh.faces.size();
   quality.extent = RobustExtent(points);
   if (points.empty() || mesh.vertices.empty()) return quality;
-  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
-  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
-  const open3d::geometry::KDTreeFlann tree(data);
-  std::vector<double> distances(mesh.vertices.size());
-  std::vector<int> index(1);
-  std::vector<double> squared(1);
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    tree.SearchKNN(mesh.vertices[i], 1, index, squared);
-    distances[i] = std::sqrt(squared[0]);
-  }
-  quality.median_distance = Median(std::move(distances));
+  quality.median_distance = Median(cloud.DistancesTo(mesh.vertices));
   return quality;
 }
 

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "varsfm/mesh/nearest_points.h"
 #include "varsfm/scene/triangle_mesh.h"
 
 namespace varsfm {
@@ -38,8 +39,9 @@ struct MeshQualityLimits {
 // (per axis): the scene's size, unmoved by a few far outliers. 0 for an empty set.
 double RobustExtent(const std::vector<Eigen::Vector3d>& points);
 
-// `spacing`: the points' average spacing (AverageNearestSpacing), kept for the check.
-MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& points,
+// `cloud`: the points the mesh was built from; `spacing`: their average spacing
+// (AverageNearestSpacing), kept for the check.
+MeshQuality MeasureMeshQuality(const TriangleMesh& mesh, const NearestPoints& cloud,
                                double spacing);
 
 // Throws varsfm::Error, one line naming the figures, when `quality` breaks `limits`.

@@ -2,11 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
-#include <open3d/geometry/KDTreeFlann.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "varsfm/util/error.h"
 
@@ -90,32 +85,6 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
     }
   }
   return out;
-}
-
-double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points) {
-  if (points.size() < 2) Fail("need at least two points to estimate the point spacing");
-  // Every point's nearest other point, not a sample's: the distances are heavy-tailed (the mean
-  // is 1.25 to 1.42 times the median on kermit's and ET's clouds), so the mean of 2000 of them
-  // moved by 8 to 26 % with which points were sampled, and the Delaunay surface's merge voxel with
-  // it (docs/measurements.md).
-  Eigen::MatrixXd data(3, static_cast<Eigen::Index>(points.size()));
-  for (size_t i = 0; i < points.size(); ++i) data.col(static_cast<Eigen::Index>(i)) = points[i];
-  const open3d::geometry::KDTreeFlann tree(data);
-  std::vector<double> nearest(points.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size()),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      std::vector<int> index(2);
-                      std::vector<double> squared(2);
-                      for (size_t i = range.begin(); i < range.end(); ++i) {
-                        // The point itself and its nearest other (a duplicate: either order,
-                        // both at 0).
-                        tree.SearchKNN(points[i], 2, index, squared);
-                        nearest[i] = squared.size() < 2 ? 0.0 : std::sqrt(squared[1]);
-                      }
-                    });
-  double sum = 0;
-  for (const double d : nearest) sum += d;  // in point order: the same sum for any threads
-  return sum / static_cast<double>(points.size());
 }
 
 PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size)

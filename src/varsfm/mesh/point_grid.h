@@ -16,9 +16,6 @@ namespace varsfm {
 // mean, visibility: the union). voxel_size <= 0 returns the cloud unchanged.
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size);
 
-// Mean distance from each point to its nearest other point. Needs at least two points.
-double AverageNearestSpacing(const std::vector<Eigen::Vector3d>& points);
-
 class PointGrid {
  public:
   PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size);

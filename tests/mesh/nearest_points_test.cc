@@ -1,4 +1,4 @@
-#include "varsfm/mesh/point_grid.h"
+#include "varsfm/mesh/nearest_points.h"
 
 #include <cmath>
 #include <limits>
