@@ -450,6 +450,10 @@ BundleAdjustmentConfig BundleAdjustmentConfig::Local(const Reconstruction& recon
   BundleAdjustmentConfig config;
   config.variable_pose_images.insert(variable_images.begin(), variable_images.end());
   std::set<camera_t> variable_cameras;
+  // The images of the variable points' tracks, gathered, then looked up once each: a lookup per
+  // observation in the model's and the config's maps was most of this function's time on a set
+  // whose tracks grow long.
+  std::vector<image_t> track_images;
   for (const image_t id : variable_images) {
     const Image& image = reconstruction.image(id);
     variable_cameras.insert(image.camera_id);
@@ -460,12 +464,14 @@ BundleAdjustmentConfig BundleAdjustmentConfig::Local(const Reconstruction& recon
         config.constant_points.insert(p.point3D_id);
         continue;
       }
-      for (const TrackElement& el : track)
-        if (!config.variable_pose_images.count(el.image_id) &&
-            reconstruction.image(el.image_id).registered)
-          config.constant_pose_images.insert(el.image_id);
+      for (const TrackElement& el : track) track_images.push_back(el.image_id);
     }
   }
+  std::sort(track_images.begin(), track_images.end());
+  track_images.erase(std::unique(track_images.begin(), track_images.end()), track_images.end());
+  for (const image_t id : track_images)
+    if (!config.variable_pose_images.count(id) && reconstruction.image(id).registered)
+      config.constant_pose_images.insert(id);
   for (const image_t id : config.constant_pose_images) {
     const camera_t camera_id = reconstruction.image(id).camera_id;
     if (!variable_cameras.count(camera_id)) config.constant_cameras.insert(camera_id);

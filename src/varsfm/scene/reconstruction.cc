@@ -6,6 +6,10 @@
 #include <numbers>
 #include <optional>
 #include <unordered_map>
+#include <utility>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "varsfm/util/error.h"
 
@@ -156,81 +160,84 @@ double Reconstruction::MeanTrackLength() const {
   return points3D_.empty() ? 0.0 : static_cast<double>(NumObservations()) / points3D_.size();
 }
 
-double Reconstruction::UpdatePointErrors() {
-  double sum = 0;
-  size_t n = 0;
-  for (auto& [id, point] : points3D_) {
-    double point_sum = 0;
-    for (const auto& el : point.track)
-      point_sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
-    point.error = point.track.empty() ? -1.0 : point_sum / point.track.size();
-    sum += point_sum;
-    n += point.track.size();
-  }
-  return n ? sum / n : 0.0;
-}
-
-double Reconstruction::RmsReprojectionError() const {
-  double sum_sq = 0;
-  size_t n = 0;
-  for (const auto& [id, point] : points3D_)
-    for (const auto& el : point.track) {
-      sum_sq += SquaredReprojectionError(el, point.xyz);
-      ++n;
-    }
-  return n ? std::sqrt(sum_sq / n) : 0.0;
-}
-
-double Reconstruction::MeanReprojectionError() const {
-  double sum = 0;
-  size_t n = 0;
-  for (const auto& [id, point] : points3D_)
-    for (const auto& el : point.track) {
-      sum += std::sqrt(SquaredReprojectionError(el, point.xyz));
-      ++n;
-    }
-  return n ? sum / n : 0.0;
-}
-
 namespace {
 
-// The images a filter visits, each looked up in the model's maps once per call instead of the
-// image and its camera once per observation: on a long sequence those are std::maps of
-// thousands of entries and the lookups a fifth of the work around each local adjustment
-// (docs/measurements.md). Node-based maps keep the pointers valid while observations are
-// deleted.
-class ViewCache {
+// Every image's pose and camera for a pass over observations, looked up in the model's maps once
+// per call instead of the image and its camera once per observation: on a long sequence those are
+// std::maps of thousands of entries and the lookups a fifth of the work around each local
+// adjustment (docs/measurements.md). Read-only, and so shared by the threads, once built. Indexed
+// by image id where the ids are dense (a workspace numbers its images from 1), else searched.
+class ViewTable {
  public:
-  struct View {
-    const Image* image = nullptr;
-    const Camera* camera = nullptr;
-    std::optional<Eigen::Vector3d> center;
-  };
-  ViewCache(const std::map<image_t, Image>& images, const std::map<camera_t, Camera>& cameras)
-      : images_(images), cameras_(cameras) {}
-  View& Get(image_t id) {
-    auto [it, inserted] = views_.try_emplace(id);
-    if (inserted) {
-      it->second.image = &images_.at(id);
-      it->second.camera = &cameras_.at(it->second.image->camera_id);
+  ViewTable(const std::map<image_t, Image>& images, const std::map<camera_t, Camera>& cameras) {
+    views_.reserve(images.size());
+    for (const auto& [id, image] : images)
+      views_.push_back({id, &image, &cameras.at(image.camera_id), image.Center()});
+    const size_t max_id = views_.empty() ? 0 : views_.back().id;
+    if (max_id <= 4 * views_.size() + 64) {
+      slot_.assign(max_id + 1, kNoSlot);
+      for (size_t i = 0; i < views_.size(); ++i) slot_[views_[i].id] = static_cast<uint32_t>(i);
     }
-    return it->second;
   }
-  double SquaredError(const TrackElement& el, const Eigen::Vector3d& xyz) {
+  double SquaredError(const TrackElement& el, const Eigen::Vector3d& xyz) const {
     const View& view = Get(el.image_id);
     return SquaredErrorThrough(*view.image, *view.camera, el.point2D_idx, xyz);
   }
-  const Eigen::Vector3d& Center(image_t id) {
-    View& view = Get(id);
-    if (!view.center) view.center = view.image->Center();
-    return *view.center;
-  }
+  const Eigen::Vector3d& Center(image_t id) const { return Get(id).center; }
 
  private:
-  const std::map<image_t, Image>& images_;
-  const std::map<camera_t, Camera>& cameras_;
-  std::unordered_map<image_t, View> views_;
+  static constexpr uint32_t kNoSlot = std::numeric_limits<uint32_t>::max();
+  struct View {
+    image_t id;
+    const Image* image;
+    const Camera* camera;
+    Eigen::Vector3d center;
+  };
+  const View& Get(image_t id) const {
+    if (!slot_.empty()) {
+      if (id < slot_.size() && slot_[id] != kNoSlot) return views_[slot_[id]];
+    } else {
+      const auto it = std::lower_bound(views_.begin(), views_.end(), id,
+                                       [](const View& v, image_t i) { return v.id < i; });
+      if (it != views_.end() && it->id == id) return *it;
+    }
+    Fail("an observation refers to image {}, which is not in the model", id);
+  }
+  std::vector<View> views_;     // in id order
+  std::vector<uint32_t> slot_;  // per id: its index in views_ (dense ids only)
 };
+
+// f(i) for i in [0, n), in parallel. Each call writes only its own results, so every result is
+// the same for any thread count; what depends on order (sums, deletions) runs after, in order.
+template <typename F>
+void ForEachIndex(size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) f(i);
+  });
+}
+
+// Every observation's squared reprojection error, point after point, each point's in track
+// order: the order in which the sums below were always taken, so they keep their bits.
+std::vector<double> SquaredErrors(const std::vector<const Point3D*>& points,
+                                  const ViewTable& views) {
+  std::vector<size_t> begin(points.size() + 1, 0);
+  for (size_t i = 0; i < points.size(); ++i) begin[i + 1] = begin[i] + points[i]->track.size();
+  std::vector<double> errors(begin.back());
+  ForEachIndex(points.size(), [&](size_t i) {
+    const Point3D& point = *points[i];
+    for (size_t k = 0; k < point.track.size(); ++k)
+      errors[begin[i] + k] = views.SquaredError(point.track[k], point.xyz);
+  });
+  return errors;
+}
+
+template <typename Map>
+auto AllPoints(Map& points3D) {
+  std::vector<decltype(&points3D.begin()->second)> out;
+  out.reserve(points3D.size());
+  for (auto& [id, point] : points3D) out.push_back(&point);
+  return out;
+}
 
 // The ids of the points observed in `image_ids` (every point when empty).
 std::vector<point3D_t> PointsSeenBy(const Reconstruction& rec, const std::vector<image_t>& ids) {
@@ -249,24 +256,67 @@ std::vector<point3D_t> PointsSeenBy(const Reconstruction& rec, const std::vector
 
 }  // namespace
 
+double Reconstruction::UpdatePointErrors() {
+  const std::vector<Point3D*> points = AllPoints(points3D_);
+  const std::vector<const Point3D*> read(points.begin(), points.end());
+  const std::vector<double> errors = SquaredErrors(read, ViewTable(images_, cameras_));
+  double sum = 0;
+  size_t k = 0;
+  for (Point3D* point : points) {
+    double point_sum = 0;
+    for (size_t j = 0; j < point->track.size(); ++j) point_sum += std::sqrt(errors[k++]);
+    point->error = point->track.empty() ? -1.0 : point_sum / point->track.size();
+    sum += point_sum;
+  }
+  return errors.empty() ? 0.0 : sum / errors.size();
+}
+
+double Reconstruction::RmsReprojectionError() const {
+  const std::vector<const Point3D*> points = AllPoints(points3D_);
+  double sum_sq = 0;
+  const std::vector<double> errors = SquaredErrors(points, ViewTable(images_, cameras_));
+  for (const double e : errors) sum_sq += e;
+  return errors.empty() ? 0.0 : std::sqrt(sum_sq / errors.size());
+}
+
+double Reconstruction::MeanReprojectionError() const {
+  const std::vector<const Point3D*> points = AllPoints(points3D_);
+  double sum = 0;
+  const std::vector<double> errors = SquaredErrors(points, ViewTable(images_, cameras_));
+  for (const double e : errors) sum += std::sqrt(e);
+  return errors.empty() ? 0.0 : sum / errors.size();
+}
+
+// Both filters judge every point first, in parallel, then edit the model in point order: a
+// point's verdict depends on its own position and track only, which no other point's deletion
+// changes, so the result is the one of a single pass.
 size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
                                                         const std::vector<image_t>& image_ids) {
   const double max_sq = max_error_px * max_error_px;
-  size_t removed = 0;
-  ViewCache views(images_, cameras_);
+  std::vector<const Point3D*> points;
+  std::vector<point3D_t> ids;
   for (const point3D_t id : PointsSeenBy(*this, image_ids)) {
     const auto it = points3D_.find(id);
     if (it == points3D_.end()) continue;
-    const auto too_far = [&](const TrackElement& el) {
-      return views.SquaredError(el, it->second.xyz) > max_sq;
-    };
-    if (std::none_of(it->second.track.begin(), it->second.track.end(), too_far)) continue;
-    const Point3D point = it->second;  // copy: DeleteObservation edits the track
+    ids.push_back(id);
+    points.push_back(&it->second);
+  }
+  const ViewTable views(images_, cameras_);
+  std::vector<uint8_t> any_large(points.size(), 0);
+  ForEachIndex(points.size(), [&](size_t i) {
+    any_large[i] = std::any_of(
+        points[i]->track.begin(), points[i]->track.end(),
+        [&](const TrackElement& el) { return views.SquaredError(el, points[i]->xyz) > max_sq; });
+  });
+  size_t removed = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!any_large[i]) continue;
+    const Point3D point = *points[i];  // copy: DeleteObservation edits the track
     for (const auto& el : point.track) {
       if (views.SquaredError(el, point.xyz) <= max_sq) continue;
       DeleteObservation(el.image_id, el.point2D_idx);
       ++removed;
-      if (!ExistsPoint3D(id)) break;
+      if (!ExistsPoint3D(ids[i])) break;
     }
   }
   return removed;
@@ -274,7 +324,8 @@ size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
 
 size_t Reconstruction::FilterTwoViewPointsWithLargeError(double max_error_px) {
   const double max_sq = max_error_px * max_error_px;
-  ViewCache views(images_, cameras_);
+  const std::vector<const Point3D*> points = AllPoints(std::as_const(points3D_));
+  const ViewTable views(images_, cameras_);
   std::vector<point3D_t> removed;
   for (const auto& [id, point] : points3D_) {
     if (point.track.size() != 2) continue;
@@ -289,20 +340,26 @@ size_t Reconstruction::FilterTwoViewPointsWithLargeError(double max_error_px) {
 size_t Reconstruction::FilterPointsWithSmallTriangulationAngle(
     double min_angle_deg, const std::vector<image_t>& image_ids) {
   const double min_angle = min_angle_deg * std::numbers::pi / 180.0;
-  size_t removed = 0;
-  ViewCache views(images_, cameras_);
-  std::vector<Eigen::Vector3d> centers;
-  for (const point3D_t id : PointsSeenBy(*this, image_ids)) {
-    const Point3D& point = points3D_.at(id);
-    centers.clear();
-    for (const auto& el : point.track) centers.push_back(views.Center(el.image_id));
+  const std::vector<point3D_t> ids = PointsSeenBy(*this, image_ids);
+  std::vector<const Point3D*> points(ids.size());
+  for (size_t i = 0; i < ids.size(); ++i) points[i] = &points3D_.at(ids[i]);
+  const ViewTable views(images_, cameras_);
+  std::vector<uint8_t> too_small(points.size(), 0);
+  ForEachIndex(points.size(), [&](size_t i) {
+    const Point3D& point = *points[i];
     double max_angle = 0;
-    for (size_t i = 0; i < centers.size() && max_angle < min_angle; ++i)
-      for (size_t j = i + 1; j < centers.size() && max_angle < min_angle; ++j)
-        max_angle = std::max(max_angle, AngleBetweenRays(centers[i], centers[j], point.xyz));
-    if (max_angle >= min_angle) continue;
-    removed += point.track.size();
-    DeletePoint3D(id);
+    for (size_t a = 0; a < point.track.size() && max_angle < min_angle; ++a)
+      for (size_t b = a + 1; b < point.track.size() && max_angle < min_angle; ++b)
+        max_angle =
+            std::max(max_angle, AngleBetweenRays(views.Center(point.track[a].image_id),
+                                                 views.Center(point.track[b].image_id), point.xyz));
+    too_small[i] = max_angle < min_angle;
+  });
+  size_t removed = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!too_small[i]) continue;
+    removed += points[i]->track.size();
+    DeletePoint3D(ids[i]);
   }
   return removed;
 }
