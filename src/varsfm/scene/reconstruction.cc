@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <optional>
-#include <unordered_map>
 #include <utility>
 
 #include <tbb/blocked_range.h>
