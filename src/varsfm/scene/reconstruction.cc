@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -322,7 +321,6 @@ size_t Reconstruction::FilterObservationsWithLargeError(double max_error_px,
 
 size_t Reconstruction::FilterTwoViewPointsWithLargeError(double max_error_px) {
   const double max_sq = max_error_px * max_error_px;
-  const std::vector<const Point3D*> points = AllPoints(std::as_const(points3D_));
   const ViewTable views(images_, cameras_);
   std::vector<point3D_t> removed;
   for (const auto& [id, point] : points3D_) {
