@@ -38,11 +38,29 @@ inline __m128 Pair(const float* p) {
   return _mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(p)));
 }
 
+// Each lane's bilinear value from its 2 x 2 neighbourhood, given as pair registers of the top
+// (t, u) and bottom (b, c) rows whose even lanes are the left pixels and odd lanes the right
+// ones, and its fractions fx, fy: SampleBilinear's operations, in its order. For both register
+// widths: GCC's vector operators on __m128 and __m256 are the instructions its _mm*_add_ps,
+// _sub_ps and _mul_ps intrinsics stand for, and neither kernel's target has FMA to contract them.
+// (Registers by reference: a 256-bit value passed by value outside an AVX target changes the
+// calling convention, and GCC warns although it is always inlined.)
+template <typename V, typename EvenOdd>
+[[gnu::always_inline]] inline void BlendPairs(const V& t, const V& u, const V& b, const V& c,
+                                              const V& fx, const V& fy, EvenOdd even_odd, V* v) {
+  V a00, a01, a10, a11;
+  even_odd(t, u, &a00, &a01);
+  even_odd(b, c, &a10, &a11);
+  const V top = a00 + fx * (a01 - a00);
+  const V bottom = a10 + fx * (a11 - a10);
+  *v = top * (1.0f - fy) + bottom * fy;
+}
+
 // Samples [i, i + 4): their warped intensities into *v. False when one of them that holds a
 // sample falls behind the source.
 [[gnu::always_inline]] inline bool Warp4(const WarpWindow& w, const WarpSource& src, const float* H,
                                          const float* h0, int i, __m128* v) {
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+  const __m128 zero = _mm_setzero_ps(), half = _mm_set1_ps(0.5f);
   const __m128 dx = _mm_load_ps(w.dx + i), dy = _mm_load_ps(w.dy + i);
   // h = (h0 + H.col(0) dx) + H.col(1) dy.
   const __m128 hx = _mm_add_ps(_mm_add_ps(_mm_set1_ps(h0[0]), _mm_mul_ps(_mm_set1_ps(H[0]), dx)),
@@ -73,13 +91,11 @@ inline __m128 Pair(const float* p) {
   const __m128 t23 = _mm_movelh_ps(Pair(r[2]), Pair(r[3]));
   const __m128 b01 = _mm_movelh_ps(Pair(r[0] + w1), Pair(r[1] + w1));
   const __m128 b23 = _mm_movelh_ps(Pair(r[2] + w1), Pair(r[3] + w1));
-  const __m128 a00 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(2, 0, 2, 0));
-  const __m128 a01 = _mm_shuffle_ps(t01, t23, _MM_SHUFFLE(3, 1, 3, 1));
-  const __m128 a10 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(2, 0, 2, 0));
-  const __m128 a11 = _mm_shuffle_ps(b01, b23, _MM_SHUFFLE(3, 1, 3, 1));
-  const __m128 top = _mm_add_ps(a00, _mm_mul_ps(fx, _mm_sub_ps(a01, a00)));
-  const __m128 bottom = _mm_add_ps(a10, _mm_mul_ps(fx, _mm_sub_ps(a11, a10)));
-  *v = _mm_add_ps(_mm_mul_ps(top, _mm_sub_ps(one, fy)), _mm_mul_ps(bottom, fy));
+  const auto even_odd = [](const __m128& p, const __m128& q, __m128* even, __m128* odd) {
+    *even = _mm_shuffle_ps(p, q, _MM_SHUFFLE(2, 0, 2, 0));
+    *odd = _mm_shuffle_ps(p, q, _MM_SHUFFLE(3, 1, 3, 1));
+  };
+  BlendPairs(t01, t23, b01, b23, fx, fy, even_odd, v);
   return true;
 }
 
@@ -149,7 +165,7 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
   const __m256 ax = _mm256_set1_ps(H[0]), ay = _mm256_set1_ps(H[1]), az = _mm256_set1_ps(H[2]);
   const __m256 bx = _mm256_set1_ps(H[3]), by = _mm256_set1_ps(H[4]), bz = _mm256_set1_ps(H[5]);
   const __m256 min_z = _mm256_set1_ps(1e-6f), half = _mm256_set1_ps(0.5f);
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+  const __m256 zero = _mm256_setzero_ps();
   const __m256 max_x = _mm256_set1_ps(src.width - 1.001f);
   const __m256 max_y = _mm256_set1_ps(src.height - 1.001f);
   const size_t w1 = static_cast<size_t>(src.width);
@@ -184,14 +200,13 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
     const __m256 tA = Pairs(r[0], r[1], r[4], r[5]), tB = Pairs(r[2], r[3], r[6], r[7]);
     const __m256 bA = Pairs(r[0] + w1, r[1] + w1, r[4] + w1, r[5] + w1);
     const __m256 bB = Pairs(r[2] + w1, r[3] + w1, r[6] + w1, r[7] + w1);
-    const __m256 a00 = _mm256_shuffle_ps(tA, tB, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m256 a01 = _mm256_shuffle_ps(tA, tB, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m256 a10 = _mm256_shuffle_ps(bA, bB, _MM_SHUFFLE(2, 0, 2, 0));
-    const __m256 a11 = _mm256_shuffle_ps(bA, bB, _MM_SHUFFLE(3, 1, 3, 1));
-    const __m256 top = _mm256_add_ps(a00, _mm256_mul_ps(fx, _mm256_sub_ps(a01, a00)));
-    const __m256 bottom = _mm256_add_ps(a10, _mm256_mul_ps(fx, _mm256_sub_ps(a11, a10)));
-    const __m256 v =
-        _mm256_add_ps(_mm256_mul_ps(top, _mm256_sub_ps(one, fy)), _mm256_mul_ps(bottom, fy));
+    const auto even_odd = [](const __m256& p, const __m256& q, __m256* even, __m256* odd)
+                              VARSFM_AVX2_TARGET {
+                                *even = _mm256_shuffle_ps(p, q, _MM_SHUFFLE(2, 0, 2, 0));
+                                *odd = _mm256_shuffle_ps(p, q, _MM_SHUFFLE(3, 1, 3, 1));
+                              };
+    __m256 v;
+    BlendPairs(tA, tB, bA, bB, fx, fy, even_odd, &v);
     const __m256 wv = _mm256_mul_ps(_mm256_load_ps(w.weight + i), v);
     acc_s = _mm256_add_ps(acc_s, wv);
     acc_ss = _mm256_add_ps(acc_ss, _mm256_mul_ps(wv, v));
