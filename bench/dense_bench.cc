@@ -1,12 +1,15 @@
 // PatchMatch's innermost loop (dense/window_warp.h) by kernel: one window of the default size
 // (radius 5, step 2: 25 samples) warped into a 800 x 533 source by a perspective homography,
-// per call.
+// per call. And fusion's consistency filter and fusion (dense/depth_fusion.h) of N exact depth
+// maps of a street, each view checked against every other one or against its overlapping views.
+#include <algorithm>
 #include <array>
 #include <random>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
+#include "varsfm/dense/depth_fusion.h"
 #include "varsfm/dense/window_warp.h"
 
 namespace {
@@ -50,5 +53,47 @@ BENCHMARK(BM_WarpAndSum)
     ->Arg(static_cast<int>(WarpKernel::kSse2))
     ->Arg(static_cast<int>(WarpKernel::kAvx2))
     ->ArgName("kernel");
+
+// View i of a street: at x = 0.5 i looking along +z at the facade z = 10, 80 x 60 pixels, its
+// exact depth map; with `overlapping`, checked against the 50 nearest views (the views that see
+// the same stretch of facade, as OverlappingViews finds them from the sparse model).
+std::vector<varsfm::FusionView> StreetViews(int n, bool overlapping) {
+  constexpr int kW = 80, kH = 60;
+  std::vector<varsfm::FusionView> views(n);
+  for (int i = 0; i < n; ++i) {
+    varsfm::FusionView& v = views[i];
+    v.image_id = static_cast<varsfm::image_t>(i + 1);
+    v.K << 60, 0, kW / 2.0, 0, 60, kH / 2.0, 0, 0, 1;
+    v.cam_from_world =
+        varsfm::Rigid3d(Eigen::Matrix3d::Identity(), Eigen::Vector3d(-0.5 * i, 0, 0));
+    v.color = cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10, 20, 30));
+    v.map.width = kW, v.map.height = kH;
+    v.map.depth.assign(kW * kH, 10.0f);
+    v.map.normal.assign(v.map.depth.size(), -Eigen::Vector3f::UnitZ());
+    v.map.cost.assign(v.map.depth.size(), 0.3f);
+    if (!overlapping || n <= 51) continue;
+    const int first = std::clamp(i - 25, 0, n - 51);
+    for (int u = first; u < first + 51; ++u)
+      if (u != i) v.overlapping.push_back(static_cast<uint32_t>(u));
+  }
+  return views;
+}
+
+void BM_FilterAndFuse(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const bool overlapping = state.range(1) != 0;
+  varsfm::DepthFusionOptions options;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::vector<varsfm::FusionView> views = StreetViews(n, overlapping);
+    state.ResumeTiming();
+    varsfm::FilterByGeometricConsistency(&views, options);
+    benchmark::DoNotOptimize(varsfm::FuseDepthMaps(views, options));
+  }
+}
+BENCHMARK(BM_FilterAndFuse)
+    ->ArgsProduct({{100, 200, 400}, {0, 1}})
+    ->ArgNames({"views", "overlapping"})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -63,5 +63,44 @@ TEST(DepthFusion, TwoViewSurfaceIsKeptOnlyWhereItsCostAllows) {
   EXPECT_EQ(Kept(views), 0u);
 }
 
+TEST(DepthFusion, DepthsAreCheckedAndFusedWithTheOverlappingViewsOnly) {
+  // Three exact views of the plane: every depth has two confirming views and fuses with three.
+  DepthFusionOptions options;
+  options.two_view_max_cost = 0;
+  std::vector<FusionView> views = {PlaneView(0, 0.1f), PlaneView(1, 0.1f), PlaneView(2, 0.1f)};
+  FilterByGeometricConsistency(&views, options);
+  EXPECT_GT(Kept(views), 0u);
+  const PointCloud all = FuseDepthMaps(views, options);
+  ASSERT_GT(all.points.size(), 0u);
+
+  // The same with the lists naming every other view: the same depths and points.
+  std::vector<FusionView> listed = {PlaneView(0, 0.1f), PlaneView(1, 0.1f), PlaneView(2, 0.1f)};
+  listed[0].overlapping = {1, 2};
+  listed[1].overlapping = {0, 2};
+  listed[2].overlapping = {0, 1};
+  FilterByGeometricConsistency(&listed, options);
+  EXPECT_EQ(Kept(listed), Kept(views));
+  const PointCloud same = FuseDepthMaps(listed, options);
+  ASSERT_EQ(same.points.size(), all.points.size());
+  for (size_t i = 0; i < all.points.size(); ++i) EXPECT_EQ(same.points[i], all.points[i]);
+
+  // Each view checked against one other only: no depth has the two confirmations it needs.
+  listed = {PlaneView(0, 0.1f), PlaneView(1, 0.1f), PlaneView(2, 0.1f)};
+  listed[0].overlapping = {1};
+  listed[1].overlapping = {2};
+  listed[2].overlapping = {0};
+  FilterByGeometricConsistency(&listed, options);
+  EXPECT_EQ(Kept(listed), 0u);
+
+  // Fusion joins the listed views only: view 0 listing view 1 alone makes points of two views.
+  listed = {PlaneView(0, 0.1f), PlaneView(1, 0.1f), PlaneView(2, 0.1f)};
+  listed[0].overlapping = {1};
+  options.min_fused_views = 2;
+  DenseVisibility visibility;
+  const PointCloud pairs = FuseDepthMaps(listed, options, &visibility);
+  ASSERT_GT(pairs.points.size(), 0u);
+  EXPECT_EQ(visibility.front(), (std::vector<image_t>{1, 2}));
+}
+
 }  // namespace
 }  // namespace varsfm

@@ -93,5 +93,30 @@ TEST(SelectSourceViews, NoMoreSourcesThanCandidates) {
   EXPECT_EQ(sources.at(2).size(), 3u);
 }
 
+TEST(OverlappingViews, EveryOtherViewWhileThereAreNoMoreThanTheCap) {
+  const Reconstruction rec = HalfSeenWall();
+  const std::vector<image_t> views = {1, 2, 3, 4, 5, 6};
+  const auto overlapping = OverlappingViews(rec, views, 5);
+  ASSERT_EQ(overlapping.size(), 6u);
+  EXPECT_EQ(overlapping[0], (std::vector<uint32_t>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(overlapping[4], (std::vector<uint32_t>{0, 1, 2, 3, 5}));  // image 5: shares with 1 only
+}
+
+TEST(OverlappingViews, TheViewsSharingMostPointsBeyondTheCap) {
+  const Reconstruction rec = HalfSeenWall();
+  const std::vector<image_t> views = {1, 2, 3, 4, 5, 6};
+  // Image 1 shares 100 points with each of 2, 3, 4, 30 with 5 and 20 with 6: with a cap of 4
+  // image 6 (indices: 5) goes; with a cap of 2, 2 and 3 stay (ties go to the earlier views).
+  EXPECT_EQ(OverlappingViews(rec, views, 4)[0], (std::vector<uint32_t>{1, 2, 3, 4}));
+  EXPECT_EQ(OverlappingViews(rec, views, 2)[0], (std::vector<uint32_t>{1, 2}));
+  // Image 2 shares 100 points with 1, 3 and 4 and none with 5 or 6: cap 4 fills with the
+  // earliest view that shares nothing (image 5, index 4).
+  EXPECT_EQ(OverlappingViews(rec, views, 4)[1], (std::vector<uint32_t>{0, 2, 3, 4}));
+  // Image 5 shares its 30 points with image 1 alone.
+  EXPECT_EQ(OverlappingViews(rec, views, 1)[4], (std::vector<uint32_t>{0}));
+  // Only the views asked for count, in their order: image 1 among {6, 5, 1}.
+  EXPECT_EQ(OverlappingViews(rec, {6, 5, 1}, 1)[2], (std::vector<uint32_t>{1}));
+}
+
 }  // namespace
 }  // namespace varsfm

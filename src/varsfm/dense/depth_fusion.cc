@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 
 namespace varsfm {
 namespace {
@@ -91,6 +92,17 @@ std::optional<ViewHit> HitInView(const FusionView& view, const ViewGeometry& g,
   return hit;
 }
 
+// f(u) for every view u that view v's depths are checked against and fused with, in index order.
+template <typename F>
+void ForEachOverlappingView(const std::vector<FusionView>& views, size_t v, F&& f) {
+  if (views[v].overlapping.empty()) {
+    for (size_t u = 0; u < views.size(); ++u)
+      if (u != v) f(u);
+    return;
+  }
+  for (const uint32_t u : views[v].overlapping) f(u);
+}
+
 // How many other views confirm the depth of pixel (x, y) of view v: their depth where the point
 // projects, unprojected and projected back into v, lands within the reprojection tolerance of
 // the pixel at the same depth.
@@ -102,18 +114,17 @@ int ConsistentViews(const std::vector<FusionView>& views, const std::vector<View
   const Eigen::Vector2d centre(x + 0.5, y + 0.5);
   const double max_error2 = options.max_reprojection_error * options.max_reprojection_error;
   int consistent = 0;
-  for (size_t u = 0; u < views.size(); ++u) {
-    if (u == v) continue;
+  ForEachOverlappingView(views, v, [&](size_t u) {
     const std::optional<ViewHit> hit = HitInView(views[u], geometry[u], X);
-    if (!hit) continue;
+    if (!hit) return;
     const Eigen::Vector3d back = geometry[u].UnprojectAt(hit->position, hit->surface_depth);
     Eigen::Vector2d p;
     double depth_back;
-    if (!g.Project(back, &p, &depth_back)) continue;
+    if (!g.Project(back, &p, &depth_back)) return;
     if ((p - centre).squaredNorm() <= max_error2 &&
         std::abs(depth_back - depth) <= options.max_depth_difference * depth)
       ++consistent;
-  }
+  });
   return consistent;
 }
 
@@ -130,6 +141,7 @@ void FilterByGeometricConsistency(std::vector<FusionView>* views,
   std::vector<ViewGeometry> geometry;
   for (const FusionView& v : *views) geometry.emplace_back(v);
   std::vector<std::vector<uint8_t>> keep(views->size());
+  Progress progress("depth consistency", views->size());
   tbb::parallel_for(size_t{0}, views->size(), [&](size_t v) {
     const DepthMap& map = (*views)[v].map;
     keep[v].assign(map.depth.size(), 0);
@@ -141,6 +153,7 @@ void FilterByGeometricConsistency(std::vector<FusionView>* views,
               (TwoViewDepth(map, map.Index(x, y), options) ? options.FewestConfirmingViews()
                                                            : options.min_consistent_views);
     });
+    progress.Tick();
   });
   for (size_t v = 0; v < views->size(); ++v) {
     DepthMap& map = (*views)[v].map;
@@ -165,6 +178,7 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
     const cv::Vec3b c = views[v].color.at<cv::Vec3b>(static_cast<int>(i));
     return Eigen::Vector3d(c[2], c[1], c[0]);  // BGR -> RGB
   };
+  Progress progress("fusion", views.size());
   for (size_t v = 0; v < views.size(); ++v) {
     const DepthMap& map = views[v].map;
     for (int y = 0; y < map.height; ++y)
@@ -176,21 +190,20 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
         Eigen::Vector3d sum_x = X, sum_n = normal, sum_c = color_at(v, i);
         std::vector<image_t> seen_by = {views[v].image_id};
         std::vector<std::pair<size_t, size_t>> members = {{v, i}};
-        for (size_t u = 0; u < views.size(); ++u) {
-          if (u == v) continue;
+        ForEachOverlappingView(views, v, [&](size_t u) {
           const std::optional<ViewHit> hit = HitInView(views[u], geometry[u], X);
-          if (!hit || fused[u][hit->pixel]) continue;
+          if (!hit || fused[u][hit->pixel]) return;
           const size_t j = hit->pixel;
           const double depth_u = hit->point_depth, d = hit->surface_depth;
-          if (std::abs(d - depth_u) > options.max_depth_difference * depth_u) continue;
+          if (std::abs(d - depth_u) > options.max_depth_difference * depth_u) return;
           const Eigen::Vector3d n = world_normal(u, j);
-          if (n.dot(normal) < min_cos) continue;
+          if (n.dot(normal) < min_cos) return;
           members.push_back({u, j});
           sum_x += geometry[u].UnprojectAt(hit->position, d);
           sum_n += n;
           sum_c += color_at(u, j);
           seen_by.push_back(views[u].image_id);
-        }
+        });
         // A pixel of a point too few views agree on stays free to join a later point.
         const int min_views = TwoViewDepth(map, i, options) ? std::min(options.min_fused_views, 2)
                                                             : options.min_fused_views;
@@ -208,6 +221,7 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
           visibility->push_back(std::move(seen_by));
         }
       }
+    progress.Tick();
   }
   return cloud;
 }
@@ -218,6 +232,9 @@ void DepthFusionOptions::Check() const {
   CheckInRange("fusion max_normal_angle_deg", max_normal_angle_deg, 0.0, 180.0);
   CheckInRange("--dense-min-consistent", min_consistent_views, 0, 64);
   CheckInRange("--dense-min-views", min_fused_views, 1, 64);
+  // A point of min_fused_views views needs that many minus one overlapping views.
+  CheckAtLeast("fusion max_overlapping_views", max_overlapping_views,
+               std::max(1, min_fused_views - 1));
   CheckInRange("--dense-two-view-cost", two_view_max_cost, 0.0, 2.0);
 }
 

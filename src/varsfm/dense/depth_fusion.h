@@ -30,6 +30,9 @@ struct DepthFusionOptions {
   double max_normal_angle_deg = 30.0;
   int min_consistent_views = 2;  // other views agreeing with a depth for it to stay
   int min_fused_views = 3;       // views (the starting one included) a point needs
+  // The views each depth is checked against and fused with: the ones that share the most sparse
+  // points with its own (FusionView::overlapping), COLMAP's check_num_images.
+  int max_overlapping_views = 50;
   // A surface near the cameras or at the edge of the capture is seen by only two views, which
   // the counts above leave out however right its depths. A depth whose photometric cost is at
   // most this (1 - NCC) needs one confirming view and fuses with two (0: no such exception).
@@ -52,6 +55,10 @@ struct FusionView {
   Rigid3d cam_from_world;
   cv::Mat color;  // BGR 8-bit, the depth map's size
   DepthMap map;
+  // The views (indices into the fusion's views, ascending) its depths are checked against and
+  // fused with: those that may see what it sees (OverlappingViews, source_views.h). Empty:
+  // every other view.
+  std::vector<uint32_t> overlapping;
 };
 
 // Drops (depth 0) every depth that fewer than min_consistent_views other views confirm. Parallel

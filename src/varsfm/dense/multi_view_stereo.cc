@@ -175,6 +175,11 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   timer.Restart();
 
   std::vector<FusionView> fusion(references.size());
+  {
+    const std::vector<std::vector<uint32_t>> overlapping =
+        OverlappingViews(rec, references, options.fusion.max_overlapping_views);
+    for (size_t r = 0; r < references.size(); ++r) fusion[r].overlapping = overlapping[r];
+  }
   const bool geometric = options.patchmatch.num_geometric_iterations > 0;
   const bool planar = options.planar.num_iterations > 0;
   const auto source_indices = [&](image_t id) {

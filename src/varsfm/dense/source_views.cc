@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 #include "varsfm/geometry/triangulation.h"
 #include "varsfm/util/option_check.h"
@@ -114,6 +115,44 @@ std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& 
     if (!chosen.empty()) sources[reference] = std::move(chosen);
   }
   return sources;
+}
+
+std::vector<std::vector<uint32_t>> OverlappingViews(const Reconstruction& rec,
+                                                    const std::vector<image_t>& views,
+                                                    int max_views) {
+  const uint32_t n = static_cast<uint32_t>(views.size());
+  std::vector<std::vector<uint32_t>> out(n);
+  if (n <= static_cast<uint32_t>(max_views) + 1) {
+    for (uint32_t v = 0; v < n; ++v)
+      for (uint32_t u = 0; u < n; ++u)
+        if (u != v) out[v].push_back(u);
+    return out;
+  }
+  std::unordered_map<image_t, uint32_t> index;
+  for (uint32_t i = 0; i < n; ++i) index[views[i]] = i;
+  std::vector<std::unordered_map<uint32_t, int>> shared(n);
+  std::vector<uint32_t> in_track;
+  for (const auto& [id, point] : rec.points3D()) {
+    in_track.clear();
+    for (const image_t s : RegisteredViews(rec, point))
+      if (const auto it = index.find(s); it != index.end()) in_track.push_back(it->second);
+    for (const uint32_t a : in_track)
+      for (const uint32_t b : in_track)
+        if (a != b) ++shared[a][b];
+  }
+  std::vector<std::pair<int, uint32_t>> ranked;  // (-shared points, index): best first
+  for (uint32_t v = 0; v < n; ++v) {
+    ranked.clear();
+    for (const auto& [u, count] : shared[v]) ranked.push_back({-count, u});
+    // Views that share no point rank last, in index order, where too few share any.
+    for (uint32_t u = 0; u < n && ranked.size() < static_cast<size_t>(max_views); ++u)
+      if (u != v && !shared[v].count(u)) ranked.push_back({0, u});
+    const size_t keep = std::min(ranked.size(), static_cast<size_t>(max_views));
+    std::partial_sort(ranked.begin(), ranked.begin() + keep, ranked.end());
+    for (size_t k = 0; k < keep; ++k) out[v].push_back(ranked[k].second);
+    std::sort(out[v].begin(), out[v].end());
+  }
+  return out;
 }
 
 DepthRange SparseDepthRange(const Reconstruction& rec, image_t image_id, double percentile) {

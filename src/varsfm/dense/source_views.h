@@ -44,6 +44,15 @@ std::vector<image_t> RegisteredViews(const Reconstruction& reconstruction, const
 std::map<image_t, std::vector<image_t>> SelectSourceViews(const Reconstruction& reconstruction,
                                                           const SourceViewOptions& options);
 
+// For each of `views`, the others that share the most sparse points with it (ties: the earlier in
+// `views`), at most `max_views` of them, as indices into `views` in ascending order; every other
+// view when there are no more than `max_views`. Fusion checks a depth against these views only:
+// against all of them the check grew with the square of the number of views (COLMAP's fusion
+// likewise checks its check_num_images most overlapping images).
+std::vector<std::vector<uint32_t>> OverlappingViews(const Reconstruction& reconstruction,
+                                                    const std::vector<image_t>& views,
+                                                    int max_views);
+
 struct DepthRange {
   double min_depth = 0, max_depth = 0;  // 0, 0: the image sees no point in front of it
 };

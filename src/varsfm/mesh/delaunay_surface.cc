@@ -1,5 +1,6 @@
 #include "varsfm/mesh/delaunay_surface.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "varsfm/util/graph_cut.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -47,7 +49,8 @@ void Add(std::atomic<uint32_t>& sum, double weight) {
 size_t AccumulateRays(const Tetrahedra& tets, const PointCloud& merged, double sigma,
                       RayWeights* weights) {
   std::atomic<size_t> rays{0};
-  tbb::parallel_for(size_t{0}, merged.points.size(), [&](size_t i) {
+  Progress progress("surface: rays", merged.points.size());
+  const auto add_rays_of = [&](size_t i) {
     const uint32_t vertex = static_cast<uint32_t>(i);
     if (tets.incident_begin[i] == tets.incident_begin[i + 1]) return;  // a duplicate
     for (uint32_t view : merged.visibility[i]) {
@@ -70,7 +73,13 @@ size_t AccumulateRays(const Tetrahedra& tets, const PointCloud& merged, double s
         if (!tets.IsInfinite(step.cell)) Add(weights->sink[step.cell], 1.0);
       });
     }
-  });
+  };
+  // Blocks of points, so that the progress (a lock per tick) stays out of the loop.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, merged.points.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& block) {
+                      for (size_t i = block.begin(); i != block.end(); ++i) add_rays_of(i);
+                      progress.Tick(block.size());
+                    });
   return rays.load();
 }
 
@@ -196,6 +205,7 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   const double voxel = options.merge_spacing * spacing;
   const PointCloud merged = VoxelDownsample(cloud, voxel);
   s.merged_points = merged.points.size();
+  spdlog::info("surface: Delaunay tetrahedralisation of {} merged points", s.merged_points);
   const Tetrahedra tets = Tetrahedralize(merged.points);
   s.cells = tets.cells.size();
   s.seconds_tetrahedra = timer.Seconds();
@@ -206,6 +216,7 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   s.seconds_rays = timer.Seconds();
   timer.Restart();
 
+  spdlog::info("surface: minimum cut of {} cells", tets.cells.size());
   const std::vector<bool> inside = LabelCells(tets, weights, options.quality_weight);
   s.inside_cells = static_cast<size_t>(std::count(inside.begin(), inside.end(), true));
   TriangleMesh mesh = ExtractSurface(tets, inside);
