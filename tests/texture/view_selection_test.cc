@@ -12,6 +12,7 @@
 #include "plane_scene.h"
 #include "varsfm/texture/alpha_expansion.h"
 #include "varsfm/texture/exposure_gain.h"
+#include "varsfm/texture/face_observations.h"
 #include "varsfm/texture/render.h"
 #include "varsfm/texture/texture_mapping.h"
 #include "varsfm/texture/view_selection.h"
@@ -243,6 +244,46 @@ TEST(ViewSelection, TheConsensusTermPrefersPhotosThatLookLikeTheOthers) {
   };
   const double plain_error = mean_error(plain), consensus_error = mean_error(consensus);
   EXPECT_LT(consensus_error, 0.75 * plain_error) << plain_error << " " << consensus_error;
+}
+
+TEST(FaceObservations, EachFaceKeepsItsBestViewsInViewOrder) {
+  // 40 photos of the plane from distances in a shuffled order (two batches of views): with a cap
+  // of 4 each face keeps exactly the 4 of its uncapped observations of highest quality (ties: the
+  // earlier view), in view order, with the same figures.
+  const TriangleMesh mesh = testing::PlaneMesh(0.25);
+  std::vector<PosedCamera> views;
+  std::vector<cv::Mat> photos;
+  for (int i = 0; i < 40; ++i) {
+    const double z = 2.0 + 0.1 * ((i * 17) % 40);
+    views.push_back(testing::PlaneView({0.05 * (i % 3), 0.05 * (i % 2), z}, {0, 0, 0}));
+    photos.push_back(testing::PhotographPlane(views.back(), 1.0));
+  }
+  const auto load = [&](size_t v) { return photos[v]; };
+  FaceObservationOptions options;
+  options.max_views_per_face = 64;
+  const FaceObservations all = ObserveFaces(mesh.vertices, mesh.faces, views, load, options);
+  options.max_views_per_face = 4;
+  const FaceObservations capped = ObserveFaces(mesh.vertices, mesh.faces, views, load, options);
+  ASSERT_EQ(capped.num_faces, all.num_faces);
+  EXPECT_EQ(capped.coverage, all.coverage);
+  size_t faces_over_cap = 0;
+  for (size_t f = 0; f < all.num_faces; ++f) {
+    std::vector<size_t> entries;
+    for (size_t k = all.begin[f]; k < all.begin[f + 1]; ++k) entries.push_back(k);
+    faces_over_cap += entries.size() > 4;
+    std::stable_sort(entries.begin(), entries.end(),
+                     [&](size_t a, size_t b) { return all.quality[a] > all.quality[b]; });
+    entries.resize(std::min<size_t>(entries.size(), 4));
+    std::sort(entries.begin(), entries.end());  // view order
+    ASSERT_EQ(capped.begin[f + 1] - capped.begin[f], entries.size());
+    for (size_t k = 0; k < entries.size(); ++k) {
+      const size_t c = capped.begin[f] + k;
+      EXPECT_EQ(capped.view[c], all.view[entries[k]]);
+      EXPECT_EQ(capped.quality[c], all.quality[entries[k]]);
+      EXPECT_EQ(capped.colour[c], all.colour[entries[k]]);
+    }
+  }
+  EXPECT_GT(faces_over_cap, all.num_faces / 2);
 }
 
 }  // namespace

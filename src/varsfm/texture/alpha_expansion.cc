@@ -1,5 +1,6 @@
 #include "varsfm/texture/alpha_expansion.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "varsfm/util/graph_cut.h"
@@ -12,13 +13,18 @@ namespace {
 // is A + (C - A) x_p + (D - C) x_q + (B + C - A - D)(1 - x_p) x_q (Kolmogorov & Zabih, sec. 4):
 // two unary terms and one edge p -> q, cut when p stays on the source side (x_p = 0) and q goes
 // to the sink side (x_q = 1). Returns whether any node changed.
-bool ExpandOne(const PottsProblem& problem, int alpha, std::vector<int>* labels_in_out) {
+//
+// Only the nodes with alpha among their candidates can move (`nodes_of_alpha`, ascending), so a
+// move costs what they do, not a pass over every node: with a label per photo, passes over
+// every node for every label grew with the photos times the faces. `vertex_of` (one entry per
+// node, -1 outside the move) is shared by the moves and left all -1.
+bool ExpandOne(const PottsProblem& problem, int alpha, const std::vector<size_t>& nodes_of_alpha,
+               std::vector<long>* vertex_of_nodes, std::vector<int>* labels_in_out) {
   std::vector<int>& labels = *labels_in_out;
-  const size_t n = problem.num_nodes();
-  std::vector<long> vertex_of(n, -1);
+  std::vector<long>& vertex_of = *vertex_of_nodes;
   std::vector<size_t> movable;
-  for (size_t i = 0; i < n; ++i) {
-    if (labels[i] >= 0 && labels[i] != alpha && problem.Cost(i, alpha) >= 0) {
+  for (const size_t i : nodes_of_alpha) {
+    if (labels[i] >= 0 && labels[i] != alpha) {
       vertex_of[i] = static_cast<long>(movable.size());
       movable.push_back(i);
     }
@@ -55,6 +61,7 @@ bool ExpandOne(const PottsProblem& problem, int alpha, std::vector<int>* labels_
   const std::vector<bool> keeps = cut.Solve();
   bool changed = false;
   for (size_t k = 0; k < movable.size(); ++k) {
+    vertex_of[movable[k]] = -1;
     if (!keeps[k]) {
       labels[movable[k]] = alpha;
       changed = true;
@@ -85,9 +92,22 @@ double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels) 
 
 void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
                   double tolerance) {
+  // Per label, the nodes that have it among their candidates (Cost >= 0), in node order.
+  std::vector<std::vector<size_t>> nodes_of(problem.num_labels);
+  for (size_t i = 0; i < problem.num_nodes(); ++i)
+    for (size_t c = problem.offsets[i]; c < problem.offsets[i + 1]; ++c) {
+      const int label = problem.candidate_labels[c];
+      const auto first = problem.candidate_labels.begin() + problem.offsets[i];
+      if (std::find(first, problem.candidate_labels.begin() + c, label) ==
+              problem.candidate_labels.begin() + c &&
+          problem.candidate_costs[c] >= 0)
+        nodes_of[label].push_back(i);
+    }
+  std::vector<long> vertex_of(problem.num_nodes(), -1);
   double energy = PottsEnergy(problem, *labels);
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
-    for (int alpha = 0; alpha < problem.num_labels; ++alpha) ExpandOne(problem, alpha, labels);
+    for (int alpha = 0; alpha < problem.num_labels; ++alpha)
+      ExpandOne(problem, alpha, nodes_of[alpha], &vertex_of, labels);
     const double after = PottsEnergy(problem, *labels);
     const bool converged = energy - after <= tolerance * std::abs(energy);
     energy = after;

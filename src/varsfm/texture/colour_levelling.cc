@@ -4,11 +4,14 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
 #include "varsfm/texture/face_adjacency.h"
+#include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/timer.h"
 
 namespace varsfm {
 namespace {
@@ -26,6 +29,27 @@ struct SeamSample {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   double weight = 0;
 };
+
+// The levelling's normal equations (SPD: the ridge): by sparse Cholesky, or beyond
+// direct_max_unknowns by conjugate gradients, whose fill-free iterations the ridge keeps few (the
+// system is diagonally dominant up to the smoothness over the ridge), where the factor's fill on
+// a large model's mesh made the direct solve take minutes (docs/measurements.md).
+Eigen::MatrixXd SolveNormalEquations(const Eigen::SparseMatrix<double>& normal,
+                                     const Eigen::MatrixXd& rhs,
+                                     const ColourLevellingOptions& options) {
+  if (normal.rows() <= options.direct_max_unknowns) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
+    if (solver.info() != Eigen::Success)  // cannot happen: SPD by the ridge
+      return Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
+    return solver.solve(rhs);
+  }
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+  solver.setTolerance(options.iterative_tolerance);
+  solver.compute(normal);
+  Eigen::MatrixXd g(rhs.rows(), rhs.cols());
+  for (int c = 0; c < rhs.cols(); ++c) g.col(c) = solver.solve(rhs.col(c));
+  return g;
+}
 
 }  // namespace
 
@@ -111,14 +135,22 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
     rhs.row(i) += weight * target.transpose();
     rhs.row(j) -= weight * target.transpose();
   };
+  // The seam samples by vertex, each vertex's in label order (its keys, sorted): a look-up of
+  // every label at every seam vertex grew with the photos times the seam.
+  std::vector<uint64_t> seam_keys;
+  seam_keys.reserve(seam.size());
+  for (const auto& [k, sample] : seam) seam_keys.push_back(k);
+  std::sort(seam_keys.begin(), seam_keys.end());
+  size_t next_key = 0;
   std::vector<std::pair<int, Eigen::Vector3d>> at_vertex;  // (unknown, seam colour)
   for (const int v : seam_vertices) {
     at_vertex.clear();
-    for (uint64_t l = 0; l < num_views; ++l) {
-      const auto s = seam.find(key(v, static_cast<int>(l)));
-      const auto u = unknown_of.find(key(v, static_cast<int>(l)));
-      if (s == seam.end() || u == unknown_of.end() || s->second.weight <= 0) continue;
-      at_vertex.emplace_back(u->second, s->second.sum / s->second.weight);
+    for (; next_key < seam_keys.size() && seam_keys[next_key] / num_views == uint64_t(v);
+         ++next_key) {
+      const SeamSample& s = seam.at(seam_keys[next_key]);
+      const auto u = unknown_of.find(seam_keys[next_key]);
+      if (u == unknown_of.end() || s.weight <= 0) continue;
+      at_vertex.emplace_back(u->second, s.sum / s.weight);
     }
     // g_l1 - g_l2 = f_l2 - f_l1 for every pair of images meeting at v, unless they differ by
     // more than exposure can explain once the gains are applied: then one of them shows
@@ -140,9 +172,11 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
   for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, options.ridge);
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
-  if (solver.info() != Eigen::Success) return corrections;  // cannot happen: SPD by the ridge
-  const Eigen::MatrixXd g = solver.solve(rhs);
+  const Timer timer;
+  const Eigen::MatrixXd g = SolveNormalEquations(normal, rhs, options);
+  debug("texture: levelling solved for {} unknowns ({}) in {:.1f} s", n,
+        n <= options.direct_max_unknowns ? "sparse Cholesky" : "conjugate gradients",
+        timer.Seconds());
   for (size_t f = 0; f < faces.size(); ++f) {
     if (labels[f] < 0) continue;
     for (int k = 0; k < 3; ++k) corrections[f][k] = g.row(corner_unknown[f][k]).cast<float>();
@@ -155,6 +189,8 @@ void ColourLevellingOptions::Check() const {
   CheckPositive("levelling.ridge", ridge);
   CheckPositive("levelling.max_seam_difference", max_seam_difference);
   CheckAtLeast("levelling.max_samples_per_edge", max_samples_per_edge, 1);
+  CheckNonNegative("levelling.direct_max_unknowns", direct_max_unknowns);
+  CheckPositive("levelling.iterative_tolerance", iterative_tolerance);
 }
 
 }  // namespace varsfm

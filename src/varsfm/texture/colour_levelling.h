@@ -33,6 +33,10 @@ struct ColourLevellingOptions {
   int max_samples_per_edge = 16;
   // Seam colours farther apart than this (grey levels, BGR Euclidean) are left alone.
   double max_seam_difference = 50;
+  // Systems of up to this many unknowns (a corner's vertex and label) are solved by sparse
+  // Cholesky, larger ones by conjugate gradients to this relative residual.
+  int direct_max_unknowns = 1000000;
+  double iterative_tolerance = 1e-6;
   void Check() const;
 };
 

@@ -157,6 +157,77 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
   *scale_out = scale;
 }
 
+// Every face's best views so far, at most `stride` of them, in fixed slots: offered in view
+// order, a face's views stay in view order until a better one replaces its worst.
+class BestViewsPerFace {
+ public:
+  BestViewsPerFace(size_t num_faces, size_t stride)
+      : stride_(stride),
+        view_(num_faces * stride),
+        quality_(num_faces * stride),
+        colour_(num_faces * stride),
+        count_(num_faces, 0),
+        replaced_(num_faces, 0) {}
+
+  void Offer(size_t face, size_t view, float quality, const Eigen::Vector3f& colour) {
+    if (stride_ == 0) return;
+    const size_t base = face * stride_;
+    size_t slot = base + count_[face];
+    if (count_[face] < stride_) {
+      ++count_[face];
+    } else {
+      // The worst kept: the lowest quality, of those the latest view. `view` comes after every
+      // kept one, so it loses a tie.
+      size_t worst = base;
+      for (size_t k = base + 1; k < base + stride_; ++k)
+        if (quality_[k] < quality_[worst] ||
+            (quality_[k] == quality_[worst] && view_[k] > view_[worst]))
+          worst = k;
+      if (!(quality > quality_[worst])) return;
+      slot = worst;
+      replaced_[face] = 1;
+    }
+    view_[slot] = static_cast<uint32_t>(view);
+    quality_[slot] = quality;
+    colour_[slot] = colour;
+  }
+
+  // Face by face, in view order.
+  void MoveTo(FaceObservations* obs) {
+    const size_t num_faces = count_.size();
+    obs->begin.assign(num_faces + 1, 0);
+    for (size_t f = 0; f < num_faces; ++f) obs->begin[f + 1] = obs->begin[f] + count_[f];
+    const size_t total = obs->begin[num_faces];
+    obs->view.resize(total);
+    obs->quality.resize(total);
+    obs->colour.resize(total);
+    obs->deviation.assign(total, 0.0f);
+    std::vector<size_t> order;
+    for (size_t f = 0; f < num_faces; ++f) {
+      const size_t base = f * stride_;
+      order.resize(count_[f]);
+      for (size_t k = 0; k < order.size(); ++k) order[k] = base + k;
+      if (replaced_[f])
+        std::sort(order.begin(), order.end(),
+                  [&](size_t a, size_t b) { return view_[a] < view_[b]; });
+      for (size_t k = 0; k < order.size(); ++k) {
+        const size_t to = obs->begin[f] + k;
+        obs->view[to] = view_[order[k]];
+        obs->quality[to] = quality_[order[k]];
+        obs->colour[to] = colour_[order[k]];
+      }
+    }
+  }
+
+ private:
+  size_t stride_;
+  std::vector<uint32_t> view_;
+  std::vector<float> quality_;
+  std::vector<Eigen::Vector3f> colour_;
+  std::vector<uint32_t> count_;
+  std::vector<uint8_t> replaced_;
+};
+
 }  // namespace
 
 Eigen::Vector3f SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& p) {
@@ -182,45 +253,37 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   FaceObservations obs;
   obs.num_faces = faces.size();
   obs.num_views = views.size();
-  std::vector<std::vector<ViewObservation>> seen(obs.num_views);
   obs.coverage.assign(obs.num_views, 0.0);
   obs.small_photos.resize(obs.num_views);
   obs.small_scale.assign(obs.num_views, 1.0);
+  BestViewsPerFace best(obs.num_faces, std::min<size_t>(options.max_views_per_face, obs.num_views));
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   Progress progress("texture: visibility", obs.num_views);
-  arena.execute([&] {
-    tbb::parallel_for(size_t{0}, obs.num_views, [&](size_t v) {
-      const cv::Mat photo = load_image(v);
-      const Camera& camera = views[v].camera;
-      if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
-        Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
-             photo.rows, photo.type(), camera.width, camera.height);
-      ObserveView(vertices, faces, views[v], photo, options, &seen[v], &obs.coverage[v],
-                  &obs.small_photos[v], &obs.small_scale[v]);
-      progress.Tick();
+  // Views in batches, each batch's observations merged in view order before the next is
+  // observed: only one batch's lists are held beside the faces' best views.
+  constexpr size_t kBatch = 32;
+  std::vector<std::vector<ViewObservation>> seen(kBatch);
+  for (size_t first = 0; first < obs.num_views; first += kBatch) {
+    const size_t last = std::min(obs.num_views, first + kBatch);
+    arena.execute([&] {
+      tbb::parallel_for(first, last, [&](size_t v) {
+        const cv::Mat photo = load_image(v);
+        const Camera& camera = views[v].camera;
+        if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
+          Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
+               photo.rows, photo.type(), camera.width, camera.height);
+        ObserveView(vertices, faces, views[v], photo, options, &seen[v - first], &obs.coverage[v],
+                    &obs.small_photos[v], &obs.small_scale[v]);
+        progress.Tick();
+      });
     });
-  });
-  progress.Finish();
-  // Face by face, in view order.
-  obs.begin.assign(obs.num_faces + 1, 0);
-  for (const std::vector<ViewObservation>& list : seen)
-    for (const ViewObservation& o : list) ++obs.begin[o.face + 1];
-  for (size_t f = 0; f < obs.num_faces; ++f) obs.begin[f + 1] += obs.begin[f];
-  const size_t total = obs.begin[obs.num_faces];
-  obs.view.resize(total);
-  obs.quality.resize(total);
-  obs.colour.resize(total);
-  obs.deviation.assign(total, 0.0f);
-  std::vector<size_t> next(obs.begin.begin(), obs.begin.end() - 1);
-  for (size_t v = 0; v < obs.num_views; ++v) {
-    for (const ViewObservation& o : seen[v]) {
-      const size_t k = next[o.face]++;
-      obs.view[k] = static_cast<uint32_t>(v);
-      obs.quality[k] = o.quality;
-      obs.colour[k] = o.colour;
+    for (size_t v = first; v < last; ++v) {
+      for (const ViewObservation& o : seen[v - first]) best.Offer(o.face, v, o.quality, o.colour);
+      std::vector<ViewObservation>().swap(seen[v - first]);
     }
-    std::vector<ViewObservation>().swap(seen[v]);
   }
+  progress.Finish();
+  best.MoveTo(&obs);
   return obs;
 }
 
@@ -237,6 +300,7 @@ void FaceObservationOptions::Check() const {
   CheckNonNegative("border_px", border_px);
   CheckFraction("partial_face_weight", partial_face_weight);
   CheckNonNegative("gradient_floor", gradient_floor);
+  CheckAtLeast("max_views_per_face", max_views_per_face, 1);
   CheckNonNegative("--threads", num_threads);
 }
 

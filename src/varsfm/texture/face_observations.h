@@ -35,6 +35,11 @@ struct FaceObservationOptions {
   // the gradient is strong (a low floor, letting sharpness decide everywhere, rendered held-out
   // views no better: the texture labelling-and-levelling results in bench/results).
   double gradient_floor = 20.0;
+  // Each face keeps its best this many views (by quality; ties: the earlier view). On a large
+  // capture a face is seen by dozens of photos, and a record of every view of every face grew
+  // with the photos times the faces (1000 photos: 20 GB); selection and the consistency check
+  // need a few good views, not all of them.
+  int max_views_per_face = 16;
   int num_threads = 0;  // 0: all cores
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
@@ -43,9 +48,10 @@ struct FaceObservationOptions {
 struct FaceObservations {
   size_t num_faces = 0;
   size_t num_views = 0;
-  // The views that may texture each face, face by face and in view order: face f's entries are
-  // [begin[f], begin[f + 1]). Sparse, as a view sees a part of a large model: a table of every
-  // view and face grew with the views times the faces (docs/measurements.md).
+  // The views that may texture each face (at most max_views_per_face), face by face and in view
+  // order: face f's entries are [begin[f], begin[f + 1]). Sparse, as a view sees a part of a
+  // large model: a table of every view and face grew with the views times the faces
+  // (docs/measurements.md).
   std::vector<size_t> begin;  // num_faces + 1
   std::vector<uint32_t> view;
   std::vector<float> quality;  // > 0 when observed; 0 once photo-consistency rejects the view
