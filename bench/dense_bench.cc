@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <spdlog/spdlog.h>
 
 #include "varsfm/dense/depth_fusion.h"
 #include "varsfm/dense/window_warp.h"
@@ -83,6 +84,7 @@ void BM_FilterAndFuse(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const bool overlapping = state.range(1) != 0;
   varsfm::DepthFusionOptions options;
+  spdlog::set_level(spdlog::level::warn);  // no progress lines among the results
   for (auto _ : state) {
     state.PauseTiming();
     std::vector<varsfm::FusionView> views = StreetViews(n, overlapping);
