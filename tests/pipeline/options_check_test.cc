@@ -128,6 +128,9 @@ TEST(OptionsCheck, Densify) {
        {"fusion max_depth_difference",
         [](auto& o) { o.dense.mvs.fusion.max_depth_difference = kNan; }},
        {"--dense-min-views", [](auto& o) { o.dense.mvs.fusion.min_fused_views = 0; }},
+       {"--dense-min-views", [](auto& o) { o.dense.mvs.fusion.min_fused_views = 52; }},
+       {"fusion max_overlapping_views",
+        [](auto& o) { o.dense.mvs.fusion.max_overlapping_views = 0; }},
        {"--dense-two-view-cost", [](auto& o) { o.dense.mvs.fusion.two_view_max_cost = 3; }}});
 }
 
@@ -174,6 +177,12 @@ TEST(OptionsCheck, Texture) {
        {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = 0.5; }},
        {"exposure.max_gain", [](auto& o) { o.texture.selection.exposure.max_gain = kInf; }},
        {"levelling.ridge", [](auto& o) { o.texture.levelling.ridge = kNan; }},
+       {"levelling.direct_max_unknowns",
+        [](auto& o) { o.texture.levelling.direct_max_unknowns = -1; }},
+       {"levelling.iterative_tolerance",
+        [](auto& o) { o.texture.levelling.iterative_tolerance = 0; }},
+       {"max_views_per_face",
+        [](auto& o) { o.texture.selection.observation.max_views_per_face = 0; }},
        {"seam.strip_width", [](auto& o) { o.texture.seams.strip_width = 1; }},
        {"max_page_size", [](auto& o) { o.texture.max_page_size = 0; }}});
 }

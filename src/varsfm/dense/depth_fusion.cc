@@ -231,10 +231,9 @@ void DepthFusionOptions::Check() const {
   CheckPositive("fusion max_depth_difference", max_depth_difference);
   CheckInRange("fusion max_normal_angle_deg", max_normal_angle_deg, 0.0, 180.0);
   CheckInRange("--dense-min-consistent", min_consistent_views, 0, 64);
-  CheckInRange("--dense-min-views", min_fused_views, 1, 64);
-  // A point of min_fused_views views needs that many minus one overlapping views.
-  CheckAtLeast("fusion max_overlapping_views", max_overlapping_views,
-               std::max(1, min_fused_views - 1));
+  CheckAtLeast("fusion max_overlapping_views", max_overlapping_views, 1);
+  // A point joins its view and at most max_overlapping_views others.
+  CheckInRange("--dense-min-views", min_fused_views, 1, max_overlapping_views + 1);
   CheckInRange("--dense-two-view-cost", two_view_max_cost, 0.0, 2.0);
 }
 
