@@ -25,7 +25,16 @@ bool IsTopLeft(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 std::vector<ProjectedVertex> ProjectVertices(const std::vector<Eigen::Vector3d>& vertices,
                                              const Camera& camera, const Rigid3d& cam_from_world,
                                              double scale) {
-  std::vector<ProjectedVertex> projected(vertices.size());
+  std::vector<ProjectedVertex> projected;
+  ProjectVertices(vertices, camera, cam_from_world, scale, &projected);
+  return projected;
+}
+
+void ProjectVertices(const std::vector<Eigen::Vector3d>& vertices, const Camera& camera,
+                     const Rigid3d& cam_from_world, double scale,
+                     std::vector<ProjectedVertex>* out) {
+  std::vector<ProjectedVertex>& projected = *out;
+  projected.assign(vertices.size(), ProjectedVertex{});
   const Eigen::Matrix3d R = cam_from_world.R();
   const Eigen::Vector3d& t = cam_from_world.translation;
   // Radial distortion r (1 + k1 r^2 + k2 r^4) folds back on itself beyond the radius where its
@@ -49,7 +58,6 @@ std::vector<ProjectedVertex> ProjectVertices(const std::vector<Eigen::Vector3d>&
     projected[i].pixel = camera.Project(x) * scale;
     projected[i].depth = x.z();
   }
-  return projected;
 }
 
 FaceRaster RasterizeFaces(const std::vector<ProjectedVertex>& projected,

@@ -31,6 +31,11 @@ struct ProjectedVertex {
 std::vector<ProjectedVertex> ProjectVertices(const std::vector<Eigen::Vector3d>& vertices,
                                              const Camera& camera, const Rigid3d& cam_from_world,
                                              double scale = 1.0);
+// The same into `out`, whose storage is reused: a caller projecting a large mesh into view after
+// view then touches no fresh memory.
+void ProjectVertices(const std::vector<Eigen::Vector3d>& vertices, const Camera& camera,
+                     const Rigid3d& cam_from_world, double scale,
+                     std::vector<ProjectedVertex>* out);
 
 struct FaceRaster {
   int width = 0;

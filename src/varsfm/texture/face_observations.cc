@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <opencv2/imgproc.hpp>
@@ -24,9 +25,9 @@ struct RasterSums {
   std::vector<int> pixels;
 };
 
-RasterSums SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv::Mat& magnitude,
-                        size_t num_faces) {
-  RasterSums sums;
+void SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv::Mat& magnitude,
+                  size_t num_faces, RasterSums* out) {
+  RasterSums& sums = *out;
   sums.gradient.assign(num_faces, 0.0f);
   sums.colour.assign(num_faces, Eigen::Vector3f::Zero());
   sums.pixels.assign(num_faces, 0);
@@ -41,8 +42,16 @@ RasterSums SumOverFaces(const FaceRaster& raster, const cv::Mat& small, const cv
       ++sums.pixels[f];
     }
   }
-  return sums;
 }
+
+// One thread's buffers for ObserveView, as large as the mesh, kept from view to view: fresh ones
+// for every view were mostly page faults on a large mesh. ObserveView runs no parallel work while
+// it uses them (OpenCV's, on TBB, comes before), so no other view's call can interleave on the
+// thread and share them.
+struct ViewScratch {
+  std::vector<ProjectedVertex> full, projected;
+  RasterSums sums;
+};
 
 // One view's observation of one face.
 struct ViewObservation {
@@ -54,7 +63,7 @@ struct ViewObservation {
 // View v's observations of the faces it may texture (in face order) and its coverage.
 void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
                  const std::vector<Eigen::Vector3i>& faces, const PosedCamera& view,
-                 const cv::Mat& photo, const FaceObservationOptions& options,
+                 const cv::Mat& photo, const FaceObservationOptions& options, ViewScratch* scratch,
                  std::vector<ViewObservation>* seen, double* coverage, cv::Mat* small_out,
                  double* scale_out) {
   const Camera& camera = view.camera;
@@ -71,14 +80,17 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
   cv::magnitude(gx, gy, magnitude);
   magnitude += options.gradient_floor;
 
-  const std::vector<ProjectedVertex> full = ProjectVertices(vertices, camera, view.cam_from_world);
-  std::vector<ProjectedVertex> projected = full;
+  std::vector<ProjectedVertex>& full = scratch->full;
+  std::vector<ProjectedVertex>& projected = scratch->projected;
+  ProjectVertices(vertices, camera, view.cam_from_world, 1.0, &full);
+  projected = full;
   for (ProjectedVertex& v : projected) v.pixel *= scale;
   const FaceRaster raster = RasterizeFaces(projected, faces, w, h);
   *coverage = static_cast<double>(std::count_if(raster.face.begin(), raster.face.end(),
                                                 [](int32_t f) { return f >= 0; })) /
               raster.face.size();
-  const RasterSums sums = SumOverFaces(raster, small, magnitude, faces.size());
+  SumOverFaces(raster, small, magnitude, faces.size(), &scratch->sums);
+  const RasterSums& sums = scratch->sums;
   // A point passes the depth test when the nearest surface around its raster pixel (the farthest
   // of a 3x3 neighbourhood, so points on an occluder's silhouette are not lost to rounding) is
   // not clearly in front of it.
@@ -263,6 +275,7 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   // observed: only one batch's lists are held beside the faces' best views.
   constexpr size_t kBatch = 32;
   std::vector<std::vector<ViewObservation>> seen(kBatch);
+  tbb::enumerable_thread_specific<ViewScratch> scratch;
   for (size_t first = 0; first < obs.num_views; first += kBatch) {
     const size_t last = std::min(obs.num_views, first + kBatch);
     arena.execute([&] {
@@ -272,8 +285,8 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
         if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
           Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
                photo.rows, photo.type(), camera.width, camera.height);
-        ObserveView(vertices, faces, views[v], photo, options, &seen[v - first], &obs.coverage[v],
-                    &obs.small_photos[v], &obs.small_scale[v]);
+        ObserveView(vertices, faces, views[v], photo, options, &scratch.local(), &seen[v - first],
+                    &obs.coverage[v], &obs.small_photos[v], &obs.small_scale[v]);
         progress.Tick();
       });
     });
