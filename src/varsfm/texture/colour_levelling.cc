@@ -38,17 +38,20 @@ struct SeamSample {
 Eigen::MatrixXd SolveNormalEquations(const Eigen::SparseMatrix<double>& normal,
                                      const Eigen::MatrixXd& rhs,
                                      const ColourLevellingOptions& options) {
-  if (normal.rows() <= options.direct_max_unknowns) {
+  const Timer timer;
+  const bool direct = normal.rows() <= options.direct_max_unknowns;
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
+  if (direct) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
-    if (solver.info() != Eigen::Success)  // cannot happen: SPD by the ridge
-      return Eigen::MatrixXd::Zero(rhs.rows(), rhs.cols());
-    return solver.solve(rhs);
+    if (solver.info() == Eigen::Success) g = solver.solve(rhs);  // fails never: SPD by the ridge
+  } else {
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+    solver.setTolerance(options.iterative_tolerance);
+    solver.compute(normal);
+    for (int c = 0; c < rhs.cols(); ++c) g.col(c) = solver.solve(rhs.col(c));
   }
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-  solver.setTolerance(options.iterative_tolerance);
-  solver.compute(normal);
-  Eigen::MatrixXd g(rhs.rows(), rhs.cols());
-  for (int c = 0; c < rhs.cols(); ++c) g.col(c) = solver.solve(rhs.col(c));
+  debug("texture: levelling solved for {} unknowns ({}) in {:.1f} s", normal.rows(),
+        direct ? "sparse Cholesky" : "conjugate gradients", timer.Seconds());
   return g;
 }
 
@@ -138,20 +141,20 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
   };
   // The seam samples by vertex, each vertex's in label order (its keys, sorted): a look-up of
   // every label at every seam vertex grew with the photos times the seam.
-  std::vector<uint64_t> seam_keys;
-  seam_keys.reserve(seam.size());
-  for (const auto& [k, sample] : seam) seam_keys.push_back(k);
-  std::sort(seam_keys.begin(), seam_keys.end());
+  std::vector<std::pair<uint64_t, const SeamSample*>> by_key;
+  by_key.reserve(seam.size());
+  for (const auto& [k, sample] : seam) by_key.emplace_back(k, &sample);
+  std::sort(by_key.begin(), by_key.end());
   size_t next_key = 0;
   std::vector<std::pair<int, Eigen::Vector3d>> at_vertex;  // (unknown, seam colour)
   for (const int v : seam_vertices) {
     at_vertex.clear();
-    for (; next_key < seam_keys.size() && seam_keys[next_key] / num_views == uint64_t(v);
+    for (; next_key < by_key.size() && by_key[next_key].first / num_views == uint64_t(v);
          ++next_key) {
-      const SeamSample& s = seam.at(seam_keys[next_key]);
-      const auto u = unknown_of.find(seam_keys[next_key]);
-      if (u == unknown_of.end() || s.weight <= 0) continue;
-      at_vertex.emplace_back(u->second, s.sum / s.weight);
+      const auto& [k, s] = by_key[next_key];
+      const auto u = unknown_of.find(k);
+      if (u == unknown_of.end() || s->weight <= 0) continue;
+      at_vertex.emplace_back(u->second, s->sum / s->weight);
     }
     // g_l1 - g_l2 = f_l2 - f_l1 for every pair of images meeting at v, unless they differ by
     // more than exposure can explain once the gains are applied: then one of them shows
@@ -173,11 +176,7 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
   for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, options.ridge);
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(triplets.begin(), triplets.end());
-  const Timer timer;
   const Eigen::MatrixXd g = SolveNormalEquations(normal, rhs, options);
-  debug("texture: levelling solved for {} unknowns ({}) in {:.1f} s", n,
-        n <= options.direct_max_unknowns ? "sparse Cholesky" : "conjugate gradients",
-        timer.Seconds());
   for (size_t f = 0; f < faces.size(); ++f) {
     if (labels[f] < 0) continue;
     for (int k = 0; k < 3; ++k) corrections[f][k] = g.row(corner_unknown[f][k]).cast<float>();

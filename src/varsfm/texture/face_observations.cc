@@ -178,11 +178,9 @@ class BestViewsPerFace {
         view_(num_faces * stride),
         quality_(num_faces * stride),
         colour_(num_faces * stride),
-        count_(num_faces, 0),
-        replaced_(num_faces, 0) {}
+        count_(num_faces, 0) {}
 
   void Offer(size_t face, size_t view, float quality, const Eigen::Vector3f& colour) {
-    if (stride_ == 0) return;
     const size_t base = face * stride_;
     size_t slot = base + count_[face];
     if (count_[face] < stride_) {
@@ -197,7 +195,6 @@ class BestViewsPerFace {
           worst = k;
       if (!(quality > quality_[worst])) return;
       slot = worst;
-      replaced_[face] = 1;
     }
     view_[slot] = static_cast<uint32_t>(view);
     quality_[slot] = quality;
@@ -219,9 +216,8 @@ class BestViewsPerFace {
       const size_t base = f * stride_;
       order.resize(count_[f]);
       for (size_t k = 0; k < order.size(); ++k) order[k] = base + k;
-      if (replaced_[f])
-        std::sort(order.begin(), order.end(),
-                  [&](size_t a, size_t b) { return view_[a] < view_[b]; });
+      std::sort(order.begin(), order.end(),
+                [&](size_t a, size_t b) { return view_[a] < view_[b]; });
       for (size_t k = 0; k < order.size(); ++k) {
         const size_t to = obs->begin[f] + k;
         obs->view[to] = view_[order[k]];
@@ -237,7 +233,6 @@ class BestViewsPerFace {
   std::vector<float> quality_;
   std::vector<Eigen::Vector3f> colour_;
   std::vector<uint32_t> count_;
-  std::vector<uint8_t> replaced_;
 };
 
 }  // namespace
