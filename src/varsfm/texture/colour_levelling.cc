@@ -32,7 +32,7 @@ struct SeamSample {
 
 // The levelling's normal equations (SPD: the ridge): by sparse Cholesky, or beyond
 // direct_max_unknowns by conjugate gradients, where the factor's fill on a large model's mesh
-// made the direct solve take minutes (docs/measurements.md). The ridge bounds the system's
+// made the direct solve slow (docs/measurements.md). The ridge bounds the system's
 // condition number (about (ridge + the smoothness and seam weights at a corner) / ridge), so
 // the iterations are few.
 Eigen::MatrixXd SolveNormalEquations(const Eigen::SparseMatrix<double>& normal,
