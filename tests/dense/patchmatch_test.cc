@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "dense/rendered_scene_truth.h"
+#include "support/test_data.h"
 #include "varsfm/dense/densify.h"
 #include "varsfm/dense/multi_view_stereo.h"
 #include "varsfm/dense/source_views.h"
@@ -247,6 +249,21 @@ TEST(MultiViewStereo, FusedPointsLieOnTheSurfacesSeenByTheirViews) {
   EXPECT_LT(unseen, observations / 100);
 }
 
+// Two densify results (cloud, visibility) of over 1000 points, the same bits.
+void ExpectSameCloud(const std::pair<PointCloud, DenseVisibility>& a,
+                     const std::pair<PointCloud, DenseVisibility>& b) {
+  ASSERT_GT(a.first.points.size(), 1000u);
+  ASSERT_EQ(a.first.points.size(), b.first.points.size());
+  EXPECT_EQ(std::memcmp(a.first.points.data(), b.first.points.data(),
+                        a.first.points.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(std::memcmp(a.first.normals.data(), b.first.normals.data(),
+                        a.first.normals.size() * sizeof(Eigen::Vector3d)),
+            0);
+  EXPECT_EQ(a.first.colors, b.first.colors);
+  EXPECT_EQ(a.second, b.second);
+}
+
 TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
   const RenderedScene scene = SmallScene();
   const Reconstruction rec = SparseModelFromRenderedScene(scene);
@@ -260,18 +277,43 @@ TEST(MultiViewStereo, SameBitsAtAnyThreadCount) {
         rec, [&](image_t id) { return scene.images[id - 1]; }, options, nullptr, &visibility);
     return std::make_pair(cloud, visibility);
   };
-  const auto [one, one_visibility] = run(1);
-  const auto [two, two_visibility] = run(2);
-  ASSERT_GT(one.points.size(), 1000u);
-  ASSERT_EQ(one.points.size(), two.points.size());
-  EXPECT_EQ(std::memcmp(one.points.data(), two.points.data(),
-                        one.points.size() * sizeof(Eigen::Vector3d)),
-            0);
-  EXPECT_EQ(std::memcmp(one.normals.data(), two.normals.data(),
-                        one.normals.size() * sizeof(Eigen::Vector3d)),
-            0);
-  EXPECT_EQ(one.colors, two.colors);
-  EXPECT_EQ(one_visibility, two_visibility);
+  ExpectSameCloud(run(1), run(2));
+}
+
+// The views' photos and depth maps in scratch memory (multi_view_stereo.h) give the cloud the
+// heap gives, bit for bit, with one pass and with a geometric pass (whose maps move there once
+// every pass is done), and leave nothing in the scratch folder.
+TEST(MultiViewStereo, SameBitsWithTheViewsInScratchMemory) {
+  const RenderedScene scene = SmallScene();
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+  testing::TempDir scratch("mvs_scratch");
+  for (const int geometric_iterations : {0, 1}) {
+    const auto run = [&](const std::filesystem::path& folder) {
+      DenseReconstructionOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+      options.mvs.max_image_size = 160;
+      options.mvs.patchmatch.num_iterations = 2;
+      options.mvs.patchmatch.num_geometric_iterations = geometric_iterations;
+      options.mvs.scratch_folder = folder;
+      DenseVisibility visibility;
+      PointCloud cloud = Densify(
+          rec, [&](image_t id) { return scene.images[id - 1]; }, options, nullptr, &visibility);
+      return std::make_pair(cloud, visibility);
+    };
+    SCOPED_TRACE(geometric_iterations);
+    ExpectSameCloud(run({}), run(scratch.path()));
+    EXPECT_EQ(std::filesystem::directory_iterator(scratch.path()),
+              std::filesystem::directory_iterator());
+  }
+  // A folder that cannot hold scratch memory is a one-line error naming it, before any work.
+  DenseReconstructionOptions options = PatchMatchOptionsFor(DenseMethod::kPatchMatch);
+  options.mvs.scratch_folder = scratch.path() / "missing";
+  try {
+    Densify(
+        rec, [&](image_t id) { return scene.images[id - 1]; }, options);
+    ADD_FAILURE() << "densified with a missing scratch folder";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MultiViewStereo, FillKeepsPropagationAndAddsWherePropagationStops) {

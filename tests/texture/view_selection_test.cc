@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "plane_scene.h"
+#include "support/test_data.h"
 #include "varsfm/texture/alpha_expansion.h"
 #include "varsfm/texture/exposure_gain.h"
 #include "varsfm/texture/face_observations.h"
@@ -284,6 +285,31 @@ TEST(FaceObservations, EachFaceKeepsItsBestViewsInViewOrder) {
     }
   }
   EXPECT_GT(faces_over_cap, all.num_faces / 2);
+}
+
+// The small photos in scratch memory (FaceObservationOptions::scratch_folder) texture the mesh
+// bit for bit as on the heap, and leave nothing in the folder.
+TEST(FaceObservations, SmallPhotosInScratchMemoryGiveTheSameTexture) {
+  const TriangleMesh mesh = testing::PlaneMesh(0.25);
+  std::vector<PosedCamera> views;
+  std::vector<cv::Mat> photos;
+  for (int i = 0; i < 6; ++i) {
+    views.push_back(testing::PlaneView({0.3 * (i - 2.5), 0.1 * (i % 2), 2.5}, {0, 0, 0}));
+    photos.push_back(testing::PhotographPlane(views.back(), 0.8 + 0.08 * i));
+  }
+  const auto load = [&](size_t v) { return photos[v]; };
+  testing::TempDir scratch("texture_scratch");
+  TextureMappingOptions heap_options, scratch_options;
+  scratch_options.selection.observation.scratch_folder = scratch.path();
+  const TexturedMesh heap = TextureMesh(mesh, views, load, heap_options);
+  const TexturedMesh mapped = TextureMesh(mesh, views, load, scratch_options);
+  ASSERT_EQ(heap.pages.size(), mapped.pages.size());
+  for (size_t p = 0; p < heap.pages.size(); ++p)
+    EXPECT_EQ(cv::norm(heap.pages[p], mapped.pages[p], cv::NORM_INF), 0) << p;
+  EXPECT_EQ(heap.texcoords, mapped.texcoords);
+  EXPECT_EQ(heap.face_texcoords, mapped.face_texcoords);
+  EXPECT_EQ(std::filesystem::directory_iterator(scratch.path()),
+            std::filesystem::directory_iterator());
 }
 
 }  // namespace

@@ -7,10 +7,12 @@
 #include <tbb/parallel_for.h>
 
 #include "varsfm/dense/undistorted_view.h"
+#include "varsfm/image/scratch_image.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
+#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -72,7 +74,7 @@ void LeaveCovered(const PointCloud& covered, FusionView* view) {
   nearest.depth.assign(view->map.depth.size(), 0);
   nearest.normal.assign(view->map.depth.size(), Eigen::Vector3f::Zero());
   SplatPoints(covered.points, nullptr, view->K, view->cam_from_world, &nearest);
-  std::vector<float>& depth = view->map.depth;
+  ScratchArray<float>& depth = view->map.depth;
   const DepthMap& map = view->map;
   std::vector<uint8_t> drop(depth.size(), 0);
   for (int y = 0; y < map.height; ++y)
@@ -162,10 +164,18 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
 
   Timer timer;
   std::vector<LoadedView> views(ids.size());
+  const std::filesystem::path& scratch = options.scratch_folder;
+  // A folder that cannot hold scratch memory is an error now, not after the first depth map.
+  if (!scratch.empty()) ScratchMemory::Create(scratch, 1);
   tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
     LoadedView& v = views[i];
     v.image = UndistortAtMostSize(load_image(ids[i]), rec.CameraOf(ids[i]), options.max_image_size);
     v.image.gray.convertTo(v.patchmatch.gray, CV_32F, 1.0 / 255.0);
+    v.image.gray.release();  // PatchMatch reads the floating-point copy
+    if (!scratch.empty()) {
+      v.image.color = CopyToScratch(v.image.color, scratch);
+      v.patchmatch.gray = CopyToScratch(v.patchmatch.gray, scratch);
+    }
     v.patchmatch.K = v.image.K;
     v.patchmatch.cam_from_world = rec.image(ids[i]).cam_from_world;
   });
@@ -209,6 +219,7 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
       f.K = view.patchmatch.K;
       f.cam_from_world = view.patchmatch.cam_from_world;
       f.color = view.image.color;
+      if (!geometric && !planar && !scratch.empty()) f.map.MoveToScratch(scratch);
       progress.Tick();
     });
   }
@@ -237,6 +248,12 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
         patchmatch_views, [&](size_t r) { return index.at(references[r]); },
         [&](size_t r) { return source_indices(references[r]); },
         [&](size_t r) { return depth_range(references[r]); }, options, &fusion);
+  if ((geometric || planar) && !scratch.empty())
+    tbb::parallel_for(size_t{0}, fusion.size(),
+                      [&](size_t r) { fusion[r].map.MoveToScratch(scratch); });
+  // The grey images are done with; the reference views' colours live on in `fusion`.
+  patchmatch_views.clear();
+  views.clear();
   st.num_views = references.size();
   st.num_depths = CountDepths(fusion);
   st.seconds_patchmatch = timer.Seconds();

@@ -4,6 +4,7 @@
 // sparse points it observes and, optionally, a prior point cloud (match propagation's); the maps
 // are filtered by geometric consistency and fused into a point cloud with normals and visibility
 // (depth_fusion.h).
+#include <filesystem>
 #include <functional>
 
 #include <opencv2/core.hpp>
@@ -30,6 +31,11 @@ struct MultiViewStereoOptions {
   DepthEdgeOptions edges;  // before fusion
   DepthFusionOptions fusion;
   uint64_t seed = kDefaultSeed;
+  // Where every view's photo and depth map are kept once made: scratch memory in this folder
+  // (util/scratch_memory.h), which the kernel may write out and drop when RAM runs short, so
+  // that the views together may outgrow RAM (a thousand photos at 800 px: ~14 GB). Empty: the
+  // heap. The same result either way.
+  std::filesystem::path scratch_folder;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };

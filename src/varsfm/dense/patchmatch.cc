@@ -607,4 +607,15 @@ void PatchMatchOptions::Check() const {
   CheckNonNegative("patchmatch min_ncc_variance", min_ncc_variance);
 }
 
+void DepthMap::MoveToScratch(const std::filesystem::path& folder) {
+  ScratchLayout layout;
+  layout.Add(depth.size() * sizeof(float), alignof(float));
+  layout.Add(normal.size() * sizeof(Eigen::Vector3f), alignof(Eigen::Vector3f));
+  layout.Add(cost.size() * sizeof(float), alignof(float));
+  const std::shared_ptr<ScratchMemory> memory = ScratchMemory::Create(folder, layout.bytes);
+  depth.MoveTo(memory, layout.offsets[0]);
+  normal.MoveTo(memory, layout.offsets[1]);
+  cost.MoveTo(memory, layout.offsets[2]);
+}
+
 }  // namespace varsfm

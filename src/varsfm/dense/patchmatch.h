@@ -11,12 +11,14 @@
 // update of a half-sweep reads only pixels that half-sweep does not write. With a random number
 // generator per pixel and sweep the result is the same bits at any thread count.
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "varsfm/geometry/rigid3.h"
+#include "varsfm/util/scratch_array.h"
 
 namespace varsfm {
 
@@ -83,13 +85,16 @@ struct PatchMatchView {
 
 // Per-pixel depth (along the optical axis; 0: none) and unit normal in the camera frame, and the
 // photometric cost of the final hypothesis. Row-major, width x height.
+// Filled on the heap; MoveToScratch moves the three arrays into one scratch memory.
 struct DepthMap {
   int width = 0, height = 0;
-  std::vector<float> depth;
-  std::vector<Eigen::Vector3f> normal;
-  std::vector<float> cost;
+  ScratchArray<float> depth;
+  ScratchArray<Eigen::Vector3f> normal;
+  ScratchArray<float> cost;
 
   size_t Index(int x, int y) const { return static_cast<size_t>(y) * width + x; }
+  // Moves the arrays into scratch memory in `folder` (util/scratch_memory.h).
+  void MoveToScratch(const std::filesystem::path& folder);
 };
 
 // The depth range searched and, optionally, prior depths and normals (depth 0 where none) that

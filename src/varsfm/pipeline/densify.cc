@@ -15,6 +15,7 @@
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/path_lock.h"
+#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -97,7 +98,11 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   DensifySummary result;
   result.method = options.dense.method;
   PointVisibility visibility;
-  const PointCloud cloud = Densify(rec, load, options.dense, &result.stats, &visibility);
+  // The views' photos and depth maps in scratch memory on the output's disk, which the output
+  // folder need not exist for yet (the scratch files have no name).
+  DenseReconstructionOptions dense = options.dense;
+  dense.mvs.scratch_folder = NearestExistingFolder(options.output);
+  const PointCloud cloud = Densify(rec, load, dense, &result.stats, &visibility);
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.
   if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));

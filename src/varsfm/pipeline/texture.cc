@@ -11,6 +11,7 @@
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/path_lock.h"
+#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -29,8 +30,11 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
       ReadStageModel("texture", options.sparse, options.image_dir, options.holdout, 1);
 
   TextureSummary result;
+  // The views' small photos in scratch memory on the output's disk (the files have no name).
+  TextureMappingOptions texture = options.texture;
+  texture.selection.observation.scratch_folder = NearestExistingFolder(options.output);
   const TexturedMesh textured =
-      TextureFromModel(mesh, rec, options.image_dir, options.texture, &result.stats);
+      TextureFromModel(mesh, rec, options.image_dir, texture, &result.stats);
   if (result.stats.num_textured_faces == 0)
     Fail(
         "texture: no face of {} ({} faces) is seen by a registered photo within the texture "

@@ -11,9 +11,11 @@
 
 #include "varsfm/camera/image_size.h"
 #include "varsfm/geometry/rasterizer.h"
+#include "varsfm/image/scratch_image.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
+#include "varsfm/util/scratch_memory.h"
 
 namespace varsfm {
 namespace {
@@ -165,7 +167,8 @@ void ObserveView(const std::vector<Eigen::Vector3d>& vertices,
     seen->push_back({static_cast<uint32_t>(f), quality, colour});
   }
   seen->shrink_to_fit();  // every view's list is held until all are gathered
-  *small_out = small;
+  *small_out =
+      options.scratch_folder.empty() ? small : CopyToScratch(small, options.scratch_folder);
   *scale_out = scale;
 }
 
@@ -263,6 +266,9 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   obs.coverage.assign(obs.num_views, 0.0);
   obs.small_photos.resize(obs.num_views);
   obs.small_scale.assign(obs.num_views, 1.0);
+  // A folder that cannot hold scratch memory is an error now, not after the first view (the
+  // small photos' allocator would fall back to the heap without a word).
+  if (!options.scratch_folder.empty()) ScratchMemory::Create(options.scratch_folder, 1);
   BestViewsPerFace best(obs.num_faces, std::min<size_t>(options.max_views_per_face, obs.num_views));
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   Progress progress("texture: visibility", obs.num_views);

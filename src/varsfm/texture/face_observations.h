@@ -6,6 +6,7 @@
 // check and the exposure gains. Each view also keeps a small copy of its photo for sampling
 // colours along seams (colour_levelling.h).
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <vector>
 
@@ -41,6 +42,10 @@ struct FaceObservationOptions {
   // need a few good views, not all of them.
   int max_views_per_face = 16;
   int num_threads = 0;  // 0: all cores
+  // Where the views' small photos (held for the levelling, up to 12 bytes a raster pixel: 9 MB
+  // a view at 1000 px) are kept: scratch memory in this folder (image/scratch_image.h), which
+  // the kernel may write out under memory pressure; empty: the heap. The same result either way.
+  std::filesystem::path scratch_folder;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 };

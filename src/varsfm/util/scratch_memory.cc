@@ -1,0 +1,67 @@
+#include "varsfm/util/scratch_memory.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "varsfm/util/error.h"
+
+namespace varsfm {
+namespace {
+
+// An unnamed file in `folder`: O_TMPFILE where the file system supports it, else a named file
+// unlinked at once.
+int OpenUnnamedFile(const std::filesystem::path& folder) {
+#ifdef O_TMPFILE
+  const int fd = open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+  if (fd >= 0) return fd;
+#endif
+  std::string name = (folder / ".varsfm-scratch-XXXXXX").string();
+  std::vector<char> buffer(name.begin(), name.end());
+  buffer.push_back('\0');
+  const int named = mkostemp(buffer.data(), O_CLOEXEC);
+  if (named < 0) return -1;
+  unlink(buffer.data());
+  return named;
+}
+
+}  // namespace
+
+std::shared_ptr<ScratchMemory> ScratchMemory::Create(const std::filesystem::path& folder,
+                                                     size_t bytes) {
+  if (bytes == 0) bytes = 1;
+  const int fd = OpenUnnamedFile(folder);
+  if (fd < 0) Fail("cannot make scratch memory in {}: {}", folder.string(), std::strerror(errno));
+  // posix_fallocate returns the error instead of setting errno.
+  const int reserved = posix_fallocate(fd, 0, static_cast<off_t>(bytes));
+  if (reserved != 0) {
+    close(fd);
+    Fail("cannot reserve {:.1f} MB of scratch memory in {}: {}", bytes / 1e6, folder.string(),
+         std::strerror(reserved));
+  }
+  void* data = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  const int map_error = errno;
+  close(fd);  // the mapping keeps the file
+  if (data == MAP_FAILED)
+    Fail("cannot map {:.1f} MB of scratch memory in {}: {}", bytes / 1e6, folder.string(),
+         std::strerror(map_error));
+  return std::shared_ptr<ScratchMemory>(new ScratchMemory(data, bytes));
+}
+
+ScratchMemory::~ScratchMemory() { munmap(data_, size_); }
+
+std::filesystem::path NearestExistingFolder(const std::filesystem::path& path) {
+  std::error_code error;
+  for (std::filesystem::path p = path; !p.empty(); p = p.parent_path()) {
+    if (std::filesystem::is_directory(p, error)) return p;
+    if (p == p.parent_path()) break;
+  }
+  return ".";
+}
+
+}  // namespace varsfm
