@@ -51,6 +51,13 @@ TEST(ScratchMemory, AMissingFolderIsAnErrorNamingIt) {
   EXPECT_FALSE(fs::exists(missing));
 }
 
+TEST(ScratchMemory, AFolderThatCannotHoldItIsSaidToBeUnusable) {
+  testing::TempDir tmp("scratch_memory_usable");
+  EXPECT_TRUE(ScratchFolderUsable(tmp.path(), "test arrays"));
+  EXPECT_FALSE(ScratchFolderUsable(tmp.path() / "not-there", "test arrays"));
+  EXPECT_TRUE(fs::directory_iterator(tmp.path()) == fs::directory_iterator());
+}
+
 TEST(ScratchMemory, NearestExistingFolder) {
   testing::TempDir tmp("scratch_memory_nearest");
   EXPECT_EQ(NearestExistingFolder(tmp.path()), tmp.path());

@@ -1,6 +1,7 @@
 #include "varsfm/dense/multi_view_stereo.h"
 
 #include <algorithm>
+#include <atomic>
 #include <map>
 #include <set>
 
@@ -127,6 +128,19 @@ void PlanarPriorPass(const std::vector<PatchMatchView>& views,
   for (size_t r = 0; r < fusion->size(); ++r) (*fusion)[r].map = std::move(refined[r]);
 }
 
+// Moves a finished depth map into scratch memory in `folder` (none: empty); once the folder has
+// no more room, the maps stay on the heap, with one warning: the run goes on as it would have
+// without scratch memory.
+void MoveToScratchWhileThereIsRoom(const std::filesystem::path& folder, std::atomic<bool>* full,
+                                   DepthMap* map) {
+  if (folder.empty() || full->load()) return;
+  try {
+    map->MoveToScratch(folder);
+  } catch (const Error& e) {
+    if (!full->exchange(true)) warn("{}: the depth maps that follow stay in RAM", e.what());
+  }
+}
+
 size_t CountDepths(const std::vector<FusionView>& views) {
   size_t n = 0;
   for (const FusionView& v : views)
@@ -164,9 +178,10 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
 
   Timer timer;
   std::vector<LoadedView> views(ids.size());
-  const std::filesystem::path& scratch = options.scratch_folder;
-  // A folder that cannot hold scratch memory is an error now, not after the first depth map.
-  if (!scratch.empty()) ScratchMemory::Create(scratch, 1);
+  std::filesystem::path scratch = options.scratch_folder;
+  if (!scratch.empty() && !ScratchFolderUsable(scratch, "the views' photos and depth maps"))
+    scratch.clear();
+  std::atomic<bool> scratch_full = false;
   tbb::parallel_for(size_t{0}, ids.size(), [&](size_t i) {
     LoadedView& v = views[i];
     v.image = UndistortAtMostSize(load_image(ids[i]), rec.CameraOf(ids[i]), options.max_image_size);
@@ -219,7 +234,7 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
       f.K = view.patchmatch.K;
       f.cam_from_world = view.patchmatch.cam_from_world;
       f.color = view.image.color;
-      if (!geometric && !planar && !scratch.empty()) f.map.MoveToScratch(scratch);
+      if (!geometric && !planar) MoveToScratchWhileThereIsRoom(scratch, &scratch_full, &f.map);
       progress.Tick();
     });
   }
@@ -248,9 +263,10 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
         patchmatch_views, [&](size_t r) { return index.at(references[r]); },
         [&](size_t r) { return source_indices(references[r]); },
         [&](size_t r) { return depth_range(references[r]); }, options, &fusion);
-  if ((geometric || planar) && !scratch.empty())
-    tbb::parallel_for(size_t{0}, fusion.size(),
-                      [&](size_t r) { fusion[r].map.MoveToScratch(scratch); });
+  if (geometric || planar)
+    tbb::parallel_for(size_t{0}, fusion.size(), [&](size_t r) {
+      MoveToScratchWhileThereIsRoom(scratch, &scratch_full, &fusion[r].map);
+    });
   // The grey images are done with; the reference views' colours live on in `fusion`.
   patchmatch_views.clear();
   views.clear();

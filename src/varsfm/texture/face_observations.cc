@@ -266,9 +266,12 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
   obs.coverage.assign(obs.num_views, 0.0);
   obs.small_photos.resize(obs.num_views);
   obs.small_scale.assign(obs.num_views, 1.0);
-  // A folder that cannot hold scratch memory is an error now, not after the first view (the
-  // small photos' allocator would fall back to the heap without a word).
-  if (!options.scratch_folder.empty()) ScratchMemory::Create(options.scratch_folder, 1);
+  // A folder that cannot hold scratch memory leaves the small photos on the heap, said once here
+  // (the allocator would fall back to the heap without a word for each photo).
+  FaceObservationOptions view_options = options;
+  if (!options.scratch_folder.empty() &&
+      !ScratchFolderUsable(options.scratch_folder, "the views' small photos"))
+    view_options.scratch_folder.clear();
   BestViewsPerFace best(obs.num_faces, std::min<size_t>(options.max_views_per_face, obs.num_views));
   tbb::task_arena arena(options.num_threads > 0 ? options.num_threads : tbb::task_arena::automatic);
   Progress progress("texture: visibility", obs.num_views);
@@ -286,8 +289,8 @@ FaceObservations ObserveFaces(const std::vector<Eigen::Vector3d>& vertices,
         if (photo.cols != camera.width || photo.rows != camera.height || photo.type() != CV_8UC3)
           Fail("texture: photo {} is {}x{} (type {}) but its camera is {}x{}", v, photo.cols,
                photo.rows, photo.type(), camera.width, camera.height);
-        ObserveView(vertices, faces, views[v], photo, options, &scratch.local(), &seen[v - first],
-                    &obs.coverage[v], &obs.small_photos[v], &obs.small_scale[v]);
+        ObserveView(vertices, faces, views[v], photo, view_options, &scratch.local(),
+                    &seen[v - first], &obs.coverage[v], &obs.small_photos[v], &obs.small_scale[v]);
         progress.Tick();
       });
     });

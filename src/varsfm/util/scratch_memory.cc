@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
 
 namespace varsfm {
 namespace {
@@ -54,6 +55,16 @@ std::shared_ptr<ScratchMemory> ScratchMemory::Create(const std::filesystem::path
 }
 
 ScratchMemory::~ScratchMemory() { munmap(data_, size_); }
+
+bool ScratchFolderUsable(const std::filesystem::path& folder, std::string_view what) {
+  try {
+    ScratchMemory::Create(folder, 1);
+    return true;
+  } catch (const Error& e) {
+    warn("{}: {} stay in RAM", e.what(), what);
+    return false;
+  }
+}
 
 std::filesystem::path NearestExistingFolder(const std::filesystem::path& path) {
   std::error_code error;

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <string_view>
 
 namespace varsfm {
 
@@ -31,6 +32,10 @@ class ScratchMemory {
   void* data_;
   size_t size_;
 };
+
+// Whether `folder` can hold scratch memory now; where it cannot (missing, read-only, full), a
+// warning says so and that `what` stays in RAM: a run that would have fit in RAM still runs.
+bool ScratchFolderUsable(const std::filesystem::path& folder, std::string_view what);
 
 // The existing folder nearest to `path` (itself, or its nearest existing parent; the current
 // folder for a relative path none of whose parents exist): where a stage that has not created
