@@ -33,9 +33,9 @@ struct MultiViewStereoOptions {
   uint64_t seed = kDefaultSeed;
   // Where every view's photo and depth map are kept once made: scratch memory in this folder
   // (util/scratch_memory.h), which the kernel may write out and drop when RAM runs short, so
-  // that the views together may outgrow RAM (a thousand photos at 800 px: ~14 GB). Empty: the
-  // heap, as is whatever the folder has no room for (with a warning). The same result either
-  // way.
+  // that the views together may outgrow RAM (27 bytes a pixel: ~14 MB a view at 800 px).
+  // Empty: the heap, as is whatever the folder has no room for (with a warning). The same result
+  // either way.
   std::filesystem::path scratch_folder;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
