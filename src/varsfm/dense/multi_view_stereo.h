@@ -35,7 +35,8 @@ struct MultiViewStereoOptions {
   // (util/scratch_memory.h), which the kernel may write out and drop when RAM runs short, so
   // that the views together may outgrow RAM (27 bytes a pixel: ~14 MB a view at 800 px).
   // Empty: the heap, as is whatever the folder has no room for (with a warning). The same result
-  // either way.
+  // either way. `varsfm densify` sets it where the views would not fit easily
+  // (pipeline/scratch_choice.h).
   std::filesystem::path scratch_folder;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value

@@ -8,6 +8,7 @@
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/pipeline/output_folder.h"
+#include "varsfm/pipeline/scratch_choice.h"
 #include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
@@ -15,7 +16,6 @@
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/path_lock.h"
-#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -98,10 +98,12 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   DensifySummary result;
   result.method = options.dense.method;
   PointVisibility visibility;
-  // The views' photos and depth maps in scratch memory on the output's disk, which the output
-  // folder need not exist for yet (the scratch files have no name).
+  // Each view holds its colour (3 bytes a pixel) and grey (4) photo, then its depth (4), normal
+  // (12) and cost (4) maps: 27 bytes a pixel.
   DenseReconstructionOptions dense = options.dense;
-  dense.mvs.scratch_folder = NearestExistingFolder(options.output);
+  dense.mvs.scratch_folder =
+      ScratchFolderFor(options.output, ViewBytes(rec, dense.mvs.max_image_size, 27),
+                       "densify: the views' photos and depth maps");
   const PointCloud cloud = Densify(rec, load, dense, &result.stats, &visibility);
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.

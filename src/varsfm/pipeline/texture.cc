@@ -5,13 +5,13 @@
 #include "varsfm/io/mesh_ply.h"
 #include "varsfm/io/obj_io.h"
 #include "varsfm/pipeline/output_folder.h"
+#include "varsfm/pipeline/scratch_choice.h"
 #include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/path_lock.h"
-#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
@@ -30,9 +30,11 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
       ReadStageModel("texture", options.sparse, options.image_dir, options.holdout, 1);
 
   TextureSummary result;
-  // The views' small photos in scratch memory on the output's disk (the files have no name).
+  // The views' small photos are 3 floats a pixel.
   TextureMappingOptions texture = options.texture;
-  texture.selection.observation.scratch_folder = NearestExistingFolder(options.output);
+  texture.selection.observation.scratch_folder = ScratchFolderFor(
+      options.output, ViewBytes(rec, texture.selection.observation.max_raster_size, 12),
+      "texture: the views' small photos");
   const TexturedMesh textured =
       TextureFromModel(mesh, rec, options.image_dir, texture, &result.stats);
   if (result.stats.num_textured_faces == 0)

@@ -45,7 +45,8 @@ struct FaceObservationOptions {
   // Where the views' small photos (held for the levelling, up to 12 bytes a raster pixel: 9 MB
   // a view at 1000 px) are kept: scratch memory in this folder (image/scratch_image.h), which
   // the kernel may write out under memory pressure; empty, or a folder with no room: the heap.
-  // The same result either way.
+  // The same result either way. `varsfm texture` sets it where the views would not fit easily
+  // (pipeline/scratch_choice.h).
   std::filesystem::path scratch_folder;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
