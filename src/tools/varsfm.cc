@@ -493,6 +493,10 @@ void AddMeshCommand(CLI::App* app) {
   varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;
   AddWithDefault(cmd, "--merge-spacing", delaunay.merge_spacing,
                  "delaunay: merge points within this x the cloud's average spacing");
+  AddWithDefault(
+      cmd, "--max-merged-points", delaunay.max_merged_points,
+      "delaunay: merge more coarsely where merge-spacing leaves more points than this "
+      "(0: as many as 3/4 of the machine's or the container's memory holds, ~1.5 KB each)");
   AddWithDefault(cmd, "--max-edge-factor", delaunay.long_faces.max_edge_factor,
                  "delaunay: drop faces with an edge above this x the median edge (0: keep)");
   cmd->add_flag("--keep-enclosed-long-faces", delaunay.long_faces.keep_enclosed,

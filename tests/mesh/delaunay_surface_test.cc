@@ -77,6 +77,31 @@ TEST(DelaunaySurface, SphereSeenFromAllSidesIsClosedAndOutward) {
   EXPECT_NEAR(SignedVolume(mesh), 4.0 / 3 * std::numbers::pi, 0.02 * 4.0 / 3 * std::numbers::pi);
 }
 
+TEST(DelaunaySurface, AtMostTheMergedPointsAskedForAndStillTheSurface) {
+  const PointCloud cloud = SeenSphere(20000, -2, false, 0.002);
+  const double spacing = AverageNearestSpacing(cloud.points);
+  DelaunaySurfaceOptions options;
+  DelaunaySurfaceStats uncapped_stats, capped;
+  const TriangleMesh uncapped =
+      ReconstructDelaunaySurface(cloud, spacing, options, &uncapped_stats);
+  ASSERT_GT(uncapped_stats.merged_points, 4000u);
+  EXPECT_DOUBLE_EQ(uncapped_stats.merge_voxel, options.merge_spacing * spacing);
+  // A cap above what merge_spacing leaves changes nothing.
+  options.max_merged_points = uncapped_stats.merged_points;
+  const TriangleMesh same = ReconstructDelaunaySurface(cloud, spacing, options);
+  EXPECT_EQ(same.vertices, uncapped.vertices);
+  EXPECT_EQ(same.faces, uncapped.faces);
+  // Below it the points merge in a larger voxel, and the surface is the same sphere.
+  options.max_merged_points = 1500;
+  const TriangleMesh mesh = ReconstructDelaunaySurface(cloud, spacing, options, &capped);
+  EXPECT_LE(capped.merged_points, 1500u);
+  EXPECT_GT(capped.merged_points, 750u);  // the voxel grows by about what the cap asks
+  EXPECT_GT(capped.merge_voxel, options.merge_spacing * spacing);
+  const EdgeTopology topology = ComputeEdgeTopology(mesh);
+  EXPECT_LT(topology.boundary_edges, topology.num_edges / 100);
+  EXPECT_NEAR(SignedVolume(mesh), 4.0 / 3 * std::numbers::pi, 0.05 * 4.0 / 3 * std::numbers::pi);
+}
+
 TEST(DelaunaySurface, OpenCapSeenFromAboveDoesNotCloseOverTheOpenSide) {
   // A cap (z >= 0.3) seen only from above: the surface must stay on the cap; nothing may span
   // the open side (screened Poisson would close it with a balloon the trim must cut away).

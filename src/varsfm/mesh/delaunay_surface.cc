@@ -182,6 +182,7 @@ size_t RemoveSmallComponents(double min_fraction, TriangleMesh* mesh) {
 
 void DelaunaySurfaceOptions::Check() const {
   CheckPositive("--merge-spacing", merge_spacing);
+  if (max_merged_points != 0) CheckAtLeast("--max-merged-points", max_merged_points, size_t{10});
   CheckPositive("--sigma", sigma);
   CheckNonNegative("--quality-weight", quality_weight);
   long_faces.Check();
@@ -202,9 +203,18 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   DelaunaySurfaceStats& s = stats ? *stats : local;
   s = {};
   Timer timer;
-  const double voxel = options.merge_spacing * spacing;
-  const PointCloud merged = VoxelDownsample(cloud, voxel);
+  double voxel = options.merge_spacing * spacing;
+  const PointCloud merged =
+      options.max_merged_points > 0
+          ? VoxelDownsampleAtMost(cloud, options.max_merged_points, voxel, &voxel)
+          : VoxelDownsample(cloud, voxel);
   s.merged_points = merged.points.size();
+  s.merge_voxel = voxel;
+  if (voxel > options.merge_spacing * spacing)
+    spdlog::info(
+        "surface: points merged at {:.3g} x their spacing instead of {:.3g}, to keep at most {} "
+        "merged points",
+        voxel / spacing, options.merge_spacing, options.max_merged_points);
   spdlog::info("surface: Delaunay tetrahedralisation of {} merged points", s.merged_points);
   const Tetrahedra tets = Tetrahedralize(merged.points);
   s.cells = tets.cells.size();

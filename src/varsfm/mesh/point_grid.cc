@@ -87,6 +87,20 @@ PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
   return out;
 }
 
+PointCloud VoxelDownsampleAtMost(const PointCloud& cloud, size_t max_points, double voxel_size,
+                                 double* used_voxel_size) {
+  PointCloud reduced = VoxelDownsample(cloud, voxel_size);
+  // An infinite voxel holds every point in one cell: the loop ends for any max_points.
+  while (reduced.points.size() > max_points && std::isfinite(voxel_size)) {
+    const double ratio =
+        static_cast<double>(reduced.points.size()) / std::max<size_t>(max_points, 1);
+    voxel_size *= std::max(1.1, 1.02 * std::sqrt(ratio));
+    reduced = VoxelDownsample(cloud, voxel_size);
+  }
+  if (used_voxel_size) *used_voxel_size = voxel_size;
+  return reduced;
+}
+
 PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, double cell_size)
     : points_(points), cell_size_(cell_size) {
   if (cell_size <= 0) Fail("PointGrid: cell size must be positive");

@@ -17,20 +17,10 @@
 namespace varsfm {
 namespace {
 
-// Downsamples with a growing voxel until at most max_points remain. Points sample surfaces, so
-// the count falls about as the square of the voxel size: each step jumps by that estimate
-// (at least 1.1x) rather than by a fixed factor, which took ~6 passes over a million points.
-// `spacing`: the cloud's AverageNearestSpacing, positive (CheckPointSpacing), so the voxel grows.
+// Downsamples with a growing voxel, from the cloud's spacing, until at most max_points remain.
 PointCloud LimitPoints(const PointCloud& cloud, size_t max_points, double spacing) {
   if (cloud.points.size() <= max_points) return cloud;
-  double voxel = spacing;
-  PointCloud reduced = VoxelDownsample(cloud, voxel);
-  while (reduced.points.size() > max_points) {
-    const double ratio = static_cast<double>(reduced.points.size()) / max_points;
-    voxel *= std::max(1.1, 1.02 * std::sqrt(ratio));
-    reduced = VoxelDownsample(cloud, voxel);
-  }
-  return reduced;
+  return VoxelDownsampleAtMost(cloud, max_points, spacing);
 }
 
 // The octree depth whose finest cells over the points' bounding cube (enlarged 1.1x, as the

@@ -1,5 +1,6 @@
 #include "varsfm/pipeline/mesh.h"
 
+#include <algorithm>
 #include <system_error>
 
 #include "varsfm/io/mesh_ply.h"
@@ -10,6 +11,7 @@
 #include "varsfm/util/log.h"
 #include "varsfm/util/path_lock.h"
 #include "varsfm/util/timer.h"
+#include "varsfm/util/usable_memory.h"
 
 namespace varsfm {
 
@@ -18,16 +20,26 @@ void MeshOptions::Check() const {
   surface.Check();
 }
 
+size_t MergedPointsWithin(size_t bytes, size_t input_points) {
+  const size_t input_bytes = input_points * kBytesPerInputPoint;
+  const size_t left = bytes > input_bytes ? bytes - input_bytes : 0;
+  return std::max(left / kBytesPerMergedPoint, kMinMergedPoints);
+}
+
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   OutputFolderLock output_lock(options.output);
   Timer timer;
   const SurfaceInput input =
       ReadSurfaceInput(options.input, options.surface.method, options.sparse, options.holdout);
+  SurfaceOptions surface = options.surface;
+  if (surface.delaunay.max_merged_points == 0)
+    surface.delaunay.max_merged_points =
+        MergedPointsWithin(UsableMemoryBytes() / 4 * 3, input.cloud.points.size());
   MeshSummary result;
   TriangleMesh mesh;
   try {
-    mesh = ReconstructSurface(input.cloud, options.surface, &result.stats, input.views);
+    mesh = ReconstructSurface(input.cloud, surface, &result.stats, input.views);
   } catch (const Error& e) {
     Fail("{}: {}", options.input.string(), e.what());
   }

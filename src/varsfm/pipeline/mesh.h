@@ -22,6 +22,8 @@ struct MeshOptions {
   // Every N-th registered image (scene/holdout.h) is not one of the views that judge the long
   // faces (0: none): what densify and texture held out, mesh leaves out too.
   int holdout = 0;
+  // surface.delaunay.max_merged_points 0 stands for the points whose surface fits in three
+  // quarters of the usable memory (MergedPointsWithin, util/usable_memory.h).
   SurfaceOptions surface;
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
@@ -36,6 +38,19 @@ struct MeshSummary {
   EdgeTopology topology;
   double seconds = 0;
 };
+
+// The Delaunay surface's peak memory (delaunay_surface.h): about kBytesPerInputPoint a point of
+// the cloud read and kBytesPerMergedPoint a merged point. `varsfm mesh` on the 2.2 M dense points
+// of 200 rendered street photos, merged to 243 k, 476 k and 1.05 M points: 903, 1258 and 2093 MB.
+inline constexpr size_t kBytesPerInputPoint = 256;
+inline constexpr size_t kBytesPerMergedPoint = 1536;
+// A cap never goes below this: a surface worth texturing needs some points, and a machine
+// without 150 MB to spare for them would fail anyway.
+inline constexpr size_t kMinMergedPoints = 100000;
+
+// The merged points whose surface, made from a cloud of `input_points`, fits in `bytes`; at
+// least kMinMergedPoints.
+size_t MergedPointsWithin(size_t bytes, size_t input_points);
 
 // Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
 // without normals when the method is Poisson, one without visibility (in the PLY, or INPUT.vis
