@@ -28,10 +28,9 @@ struct DelaunaySurfaceOptions {
   // noise, so merging costs little detail and keeps the graph to a size set by the scene.
   double merge_spacing = 2.0;
   // At most this many merged points (0: no cap): where merge_spacing leaves more, the voxel
-  // grows until they fit (point_grid.h). The tetrahedralisation and the cut take ~2 KB a merged
-  // point (1.05 M merged points of 200 rendered street photos: 2.1 GB peak for `varsfm mesh`), so
-  // a cloud of a thousand photos can outgrow memory; `varsfm mesh` sets the cap from the usable
-  // memory (pipeline/mesh.h).
+  // grows until they fit (point_grid.h). The tetrahedralisation and the cut take ~1.5 KB a
+  // merged point, so a cloud of a thousand photos can outgrow memory; `varsfm mesh` sets the cap
+  // from the usable memory (pipeline/mesh.h has the measured figures).
   size_t max_merged_points = 0;
   // sigma of Labatut et al. (section 4.2), in merged voxels: a ray's free-space weight rises
   // from 0 at its point to the full weight over a few sigma (1 - exp(-d^2 / 2 sigma^2)), so
