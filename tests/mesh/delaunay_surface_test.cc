@@ -185,6 +185,20 @@ TEST(DelaunaySurface, DeterministicAndThroughTheSurfaceStage) {
   EXPECT_THROW(options.Check(), Error);
 }
 
+TEST(DelaunaySurface, AMeshAsCoarseAsTheCapAskedIsNoBrokenMesh) {
+  // The mesh check asks for a face per 50 points (mesh_quality.h) of the surface at the asked
+  // merge spacing; a cap that merges more coarsely lowers that with the square of the voxel.
+  const PointCloud cloud = SeenSphere(20000, -2, false, 0.002);
+  SurfaceOptions options;
+  options.method = SurfaceMethod::kDelaunay;
+  options.delaunay.max_merged_points = 150;
+  SurfaceStats stats;
+  const TriangleMesh mesh = ReconstructSurface(cloud, options, &stats);
+  EXPECT_LE(stats.delaunay.merged_points, 150u);
+  EXPECT_LT(mesh.faces.size(), cloud.points.size() / 50);  // below the check's uncapped limit
+  EXPECT_GT(mesh.faces.size(), 150u);
+}
+
 // PatchMatch's points carry no cameras in the PLY: their visibility is dense.ply.vis (image ids)
 // and the camera centres are the sparse model's. Read that way, the cloud is the one that
 // carries its own visibility, and so is its surface.

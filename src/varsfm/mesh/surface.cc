@@ -23,6 +23,21 @@ PointCloud LimitPoints(const PointCloud& cloud, size_t max_points, double spacin
   return VoxelDownsampleAtMost(cloud, max_points, spacing);
 }
 
+// The mesh check's limits. A merge voxel that the Delaunay surface's cap on merged points grew
+// (delaunay_surface.h, max_merged_points) resolves the surface coarser by design, so the faces
+// expected of the points fall with its square (mesh_quality.h: about 2 N / k^2 faces at k
+// spacings).
+MeshQualityLimits LimitsForTheMerge(const SurfaceOptions& options, double spacing,
+                                    const SurfaceStats& s) {
+  MeshQualityLimits limits = options.quality;
+  const double asked = options.delaunay.merge_spacing * spacing;
+  if (options.method == SurfaceMethod::kDelaunay && s.delaunay.merge_voxel > asked) {
+    const double coarsening = s.delaunay.merge_voxel / asked;
+    limits.min_faces_per_point /= coarsening * coarsening;
+  }
+  return limits;
+}
+
 // The octree depth whose finest cells over the points' bounding cube (enlarged 1.1x, as the
 // reconstruction does) are about cell_spacing x spacing wide, clamped. The octree is refined
 // only around the samples, so a cube inflated by a few far outliers costs depth, not memory.
@@ -143,7 +158,7 @@ TriangleMesh ReconstructSurface(const PointCloud& input, const SurfaceOptions& o
   // question about the reconstruction, and a face budget the user asked for (any below ~2 % of
   // the point count) is no broken mesh. Trimmed first, so the budget is not spent on faces
   // about to go.
-  CheckMeshQuality(s.quality, options.quality);
+  CheckMeshQuality(s.quality, LimitsForTheMerge(options, spacing, s));
   s.decimated_faces = DecimateMesh(options.decimation, &mesh);
   if (s.decimated_faces > 0) {
     // What the collapses reached, even short of the budget (they stop where no edge can go
