@@ -41,6 +41,10 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
   ASSERT_TRUE(std::filesystem::exists(out / "mesh.ply"));
   const nlohmann::json mesh = nlohmann::json::parse(std::ifstream(out / "summary.json"))["mesh"];
   EXPECT_GT(mesh["points"].get<double>(), 100000) << mesh;
+  // Merged at the default spacing: the memory cap does not bind on kermit's cloud.
+  EXPECT_LT(mesh["surface_points"].get<double>(), mesh["points"].get<double>()) << mesh;
+  EXPECT_GT(mesh["surface_points"].get<double>(), 20000) << mesh;
+  EXPECT_NEAR(mesh["merge_spacing"].get<double>(), 2.0, 1e-9) << mesh;
   EXPECT_GE(mesh["faces"].get<double>(), 2000) << mesh;
   EXPECT_LT(mesh["relative_distance"].get<double>(), 0.005) << mesh;
   EXPECT_NEAR(mesh["relative_distance"].get<double>(),

@@ -65,7 +65,7 @@ struct SurfaceOptions {
 
 struct SurfaceStats {
   size_t input_points = 0;
-  size_t used_points = 0;  // after downsampling (advancing front)
+  size_t used_points = 0;  // after merging (Delaunay) or downsampling (advancing front)
   double average_spacing = 0;
   int depth = 0;  // screened Poisson's octree depth
   DelaunaySurfaceStats delaunay;

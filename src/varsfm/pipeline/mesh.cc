@@ -63,10 +63,20 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
 
 nlohmann::json MeshSummaryJson(const MeshSummary& result) {
   const MeshQuality& q = result.stats.quality;
-  return {{"points", result.stats.input_points},       {"depth", result.stats.depth},
-          {"vertices", result.num_vertices},           {"faces", result.num_faces},
-          {"median_distance", q.median_distance},      {"extent", q.extent},
-          {"relative_distance", q.RelativeDistance()}, {"seconds", result.seconds}};
+  nlohmann::json json = {{"points", result.stats.input_points},
+                         {"surface_points", result.stats.used_points},
+                         {"depth", result.stats.depth},
+                         {"vertices", result.num_vertices},
+                         {"faces", result.num_faces},
+                         {"median_distance", q.median_distance},
+                         {"extent", q.extent},
+                         {"relative_distance", q.RelativeDistance()},
+                         {"seconds", result.seconds}};
+  // The Delaunay surface's merge voxel in point spacings: above --merge-spacing where the memory
+  // cap merged more coarsely.
+  if (result.stats.delaunay.merge_voxel > 0 && result.stats.average_spacing > 0)
+    json["merge_spacing"] = result.stats.delaunay.merge_voxel / result.stats.average_spacing;
+  return json;
 }
 
 }  // namespace varsfm

@@ -57,8 +57,9 @@ size_t MergedPointsWithin(size_t bytes, size_t input_points);
 // with the sparse model) when it is Delaunay, or a mesh that fails the check (mesh_quality.h).
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
-// The figures summary.json keeps of a mesh stage: points, octree depth, vertices, faces, median
-// vertex-to-point distance, the cloud's extent, their ratio and seconds.
+// The figures summary.json keeps of a mesh stage: points, the points the surface was made of
+// (merged or downsampled), octree depth, vertices, faces, median vertex-to-point distance, the
+// cloud's extent, their ratio, seconds, and the Delaunay surface's merge spacing.
 nlohmann::json MeshSummaryJson(const MeshSummary& result);
 
 }  // namespace varsfm
