@@ -21,6 +21,10 @@
 namespace varsfm {
 
 struct MultiViewStereoOptions {
+  // What a view holds until fusion, a pixel at max_image_size: its colour (3 bytes) and grey
+  // (4) photo, then its depth (4), normal (12) and cost (4) maps.
+  static constexpr size_t kViewBytesPerPixel = 27;
+
   // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
   int max_image_size = 800;
   SourceViewOptions sources;
@@ -33,7 +37,7 @@ struct MultiViewStereoOptions {
   uint64_t seed = kDefaultSeed;
   // Where every view's photo and depth map are kept once made: scratch memory in this folder
   // (util/scratch_memory.h), which the kernel may write out and drop when RAM runs short, so
-  // that the views together may outgrow RAM (27 bytes a pixel: ~14 MB a view at 800 px).
+  // that the views together may outgrow RAM (kViewBytesPerPixel: ~13 MB a view at 800 px).
   // Empty: the heap, as is whatever the folder has no room for (with a warning). The same result
   // either way. `varsfm densify` sets it where the views would not fit easily
   // (pipeline/scratch_choice.h).

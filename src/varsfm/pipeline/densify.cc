@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "varsfm/dense/multi_view_stereo.h"
 #include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/io/point_visibility.h"
@@ -98,12 +99,11 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   DensifySummary result;
   result.method = options.dense.method;
   PointVisibility visibility;
-  // Each view holds its colour (3 bytes a pixel) and grey (4) photo, then its depth (4), normal
-  // (12) and cost (4) maps: 27 bytes a pixel.
   DenseReconstructionOptions dense = options.dense;
-  dense.mvs.scratch_folder =
-      ScratchFolderFor(options.output, ViewBytes(rec, dense.mvs.max_image_size, 27),
-                       "densify: the views' photos and depth maps");
+  dense.mvs.scratch_folder = ScratchFolderFor(
+      options.output,
+      ViewBytes(rec, dense.mvs.max_image_size, MultiViewStereoOptions::kViewBytesPerPixel),
+      "densify: the views' photos and depth maps");
   const PointCloud cloud = Densify(rec, load, dense, &result.stats, &visibility);
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.

@@ -8,6 +8,7 @@
 #include "varsfm/pipeline/scratch_choice.h"
 #include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
+#include "varsfm/texture/face_observations.h"
 #include "varsfm/texture/gltf_writer.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -30,10 +31,11 @@ TextureSummary RunTexture(const TextureOptions& options, OptionsCheck check) {
       ReadStageModel("texture", options.sparse, options.image_dir, options.holdout, 1);
 
   TextureSummary result;
-  // The views' small photos are 3 floats a pixel.
   TextureMappingOptions texture = options.texture;
-  texture.selection.observation.scratch_folder = ScratchFolderFor(
-      options.output, ViewBytes(rec, texture.selection.observation.max_raster_size, 12),
+  FaceObservationOptions& observation = texture.selection.observation;
+  observation.scratch_folder = ScratchFolderFor(
+      options.output,
+      ViewBytes(rec, observation.max_raster_size, FaceObservationOptions::kSmallPhotoBytesPerPixel),
       "texture: the views' small photos");
   const TexturedMesh textured =
       TextureFromModel(mesh, rec, options.image_dir, texture, &result.stats);

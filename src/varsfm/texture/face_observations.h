@@ -18,6 +18,9 @@
 namespace varsfm {
 
 struct FaceObservationOptions {
+  // A view's small photo, 3 floats a raster pixel.
+  static constexpr size_t kSmallPhotoBytesPerPixel = 12;
+
   // Visibility rasters and the photos' small copies are at most this many pixels on their
   // longer side (speed; faces are tested at their corners and centroid, so faces smaller than a
   // raster pixel still are).
@@ -42,10 +45,10 @@ struct FaceObservationOptions {
   // need a few good views, not all of them.
   int max_views_per_face = 16;
   int num_threads = 0;  // 0: all cores
-  // Where the views' small photos (held for the levelling, up to 12 bytes a raster pixel: 9 MB
-  // a view at 1000 px) are kept: scratch memory in this folder (image/scratch_image.h), which
-  // the kernel may write out under memory pressure; empty, or a folder with no room: the heap.
-  // The same result either way. `varsfm texture` sets it where the views would not fit easily
+  // Where the views' small photos (held for the levelling, kSmallPhotoBytesPerPixel a raster
+  // pixel: 9 MB a view at 1000 px) are kept: scratch memory in this folder (image/scratch_image.h),
+  // which the kernel may write out under memory pressure; empty, or a folder with no room: the
+  // heap. The same result either way. `varsfm texture` sets it where the views would not fit easily
   // (pipeline/scratch_choice.h).
   std::filesystem::path scratch_folder;
 
