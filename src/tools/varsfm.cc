@@ -488,6 +488,9 @@ void AddMeshCommand(CLI::App* app) {
                  "screened Poisson threads (the mesh is reproducible for a fixed count)");
   AddWithDefault(cmd, "--max-points", options->surface.max_points,
                  "afront: downsample above this many points");
+  AddWithDefault(cmd, "--max-read-points", options->max_read_points,
+                 "read a larger cloud merged per voxel to this many points (0: as many as half "
+                 "of 3/4 of the machine's or the container's memory holds, ~256 bytes each)");
   AddWithDefault(cmd, "--trim", options->surface.trim_factor,
                  "Poisson: drop faces farther than this x point spacing from the data (0: keep)");
   varsfm::DelaunaySurfaceOptions& delaunay = options->surface.delaunay;

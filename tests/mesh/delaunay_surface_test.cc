@@ -14,6 +14,7 @@
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/mesh/nearest_points.h"
+#include "varsfm/mesh/point_grid.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
 #include "varsfm/scene/holdout.h"
@@ -271,6 +272,17 @@ TEST(DelaunaySurface, VisibilityBesideThePlyWithTheModelsCameras) {
       EXPECT_GT((view.cam_from_world.Center() - model.image(id).cam_from_world.Center()).norm(),
                 1e-9);
   EXPECT_EQ(held.cloud.visibility, seen.visibility);
+  // A cloud of more points than asked for is read merged: the whole cloud merged at that voxel,
+  // its image ids turned into the same viewpoints.
+  const SurfaceInput merged =
+      ReadSurfaceInput(ply, SurfaceMethod::kDelaunay, {}, 0, seen.points.size() / 4);
+  EXPECT_EQ(merged.file_points, seen.points.size());
+  ASSERT_GT(merged.read_voxel, 0);
+  EXPECT_LE(merged.cloud.points.size(), seen.points.size() / 4);
+  const PointCloud expected = VoxelDownsample(input.cloud, merged.read_voxel);
+  EXPECT_EQ(merged.cloud.points, expected.points);
+  EXPECT_EQ(merged.cloud.visibility, expected.visibility);
+  EXPECT_EQ(merged.cloud.viewpoints, input.cloud.viewpoints);
   PointCloud other = bare;
   ids[0].push_back(99);  // no such image
   EXPECT_THROW(AttachVisibility(ids, model, &other), Error);

@@ -379,17 +379,38 @@ void Append(PointCloud&& b, DenseVisibility&& b_visibility, PointCloud* a,
     for (auto& ids : b_visibility) a_visibility->push_back(std::move(ids));
 }
 
+// The checks and the thread limit every densification starts with; the limit lasts as long as
+// `threads`.
+void StartDensify(const Reconstruction& rec, const DenseReconstructionOptions& options,
+                  std::optional<tbb::global_control>* threads) {
+  if (rec.NumRegisteredImages() < 2)
+    Fail("densify: the sparse model has {} registered images; at least 2 are needed",
+         rec.NumRegisteredImages());
+  if (options.num_threads > 0)
+    threads->emplace(tbb::global_control::max_allowed_parallelism, options.num_threads);
+}
+
 }  // namespace
+
+void DensifyInto(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
+                 const DenseReconstructionOptions& options, DensifyStats* stats,
+                 const FusedPointSink& sink) {
+  if (!StreamsPoints(options.method))
+    Fail("densify: the {} method's points cannot be streamed",
+         NameOf(kDenseMethodNames, options.method));
+  std::optional<tbb::global_control> threads;
+  StartDensify(rec, options, &threads);
+  DensifyStats local;
+  DensifyStats& st = stats ? *stats : local;
+  st = {};
+  MultiViewStereoInto(rec, load_image, options.mvs, {}, sink, &st.mvs);
+}
 
 PointCloud Densify(const Reconstruction& rec, const std::function<cv::Mat(image_t)>& load_image,
                    const DenseReconstructionOptions& options, DensifyStats* stats,
                    DenseVisibility* visibility) {
-  if (rec.NumRegisteredImages() < 2)
-    Fail("densify: the sparse model has {} registered images; at least 2 are needed",
-         rec.NumRegisteredImages());
   std::optional<tbb::global_control> threads;
-  if (options.num_threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism, options.num_threads);
+  StartDensify(rec, options, &threads);
   DensifyStats local;
   DensifyStats& st = stats ? *stats : local;
   st = {};

@@ -90,4 +90,17 @@ PointCloud Densify(const Reconstruction& reconstruction,
                    const DenseReconstructionOptions& options = {}, DensifyStats* stats = nullptr,
                    DenseVisibility* visibility = nullptr);
 
+// Whether a method's points can be handed over one by one as they are made (DensifyInto):
+// PatchMatch's alone, whose fusion makes each point once; the other methods gather theirs to
+// merge, filter or combine them.
+inline bool StreamsPoints(DenseMethod method) { return method == DenseMethod::kPatchMatch; }
+
+// Densify for a method that StreamsPoints: each point goes to `sink` as fusion makes it, so the
+// cloud never stands whole in memory (a thousand photos at 800 px make tens of millions of
+// points). Throws varsfm::Error as Densify, and for a method that does not stream.
+void DensifyInto(const Reconstruction& reconstruction,
+                 const std::function<cv::Mat(image_t)>& load_image,
+                 const DenseReconstructionOptions& options, DensifyStats* stats,
+                 const FusedPointSink& sink);
+
 }  // namespace varsfm

@@ -162,15 +162,13 @@ void FilterByGeometricConsistency(std::vector<FusionView>* views,
   }
 }
 
-PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
-                         DenseVisibility* visibility) {
+void FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
+                   const FusedPointSink& sink) {
   std::vector<ViewGeometry> geometry;
   for (const FusionView& v : views) geometry.emplace_back(v);
   std::vector<std::vector<uint8_t>> fused(views.size());
   for (size_t v = 0; v < views.size(); ++v) fused[v].assign(views[v].map.depth.size(), 0);
   const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180.0);
-  PointCloud cloud;
-  if (visibility) visibility->clear();
   const auto world_normal = [&](size_t v, size_t i) {
     return geometry[v].R.transpose() * views[v].map.normal[i].cast<double>();
   };
@@ -210,19 +208,32 @@ PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusion
         if (seen_by.size() < static_cast<size_t>(min_views)) continue;
         for (const auto& [view, pixel] : members) fused[view][pixel] = 1;
         const double count = static_cast<double>(seen_by.size());
-        cloud.points.push_back(sum_x / count);
-        cloud.normals.push_back(sum_n.normalized());
         const Eigen::Vector3d c = sum_c / count;
-        cloud.colors.push_back({static_cast<uint8_t>(std::lround(c.x())),
-                                static_cast<uint8_t>(std::lround(c.y())),
-                                static_cast<uint8_t>(std::lround(c.z()))});
-        if (visibility) {
-          std::sort(seen_by.begin(), seen_by.end());
-          visibility->push_back(std::move(seen_by));
-        }
+        std::sort(seen_by.begin(), seen_by.end());
+        sink({sum_x / count,
+              sum_n.normalized(),
+              {static_cast<uint8_t>(std::lround(c.x())), static_cast<uint8_t>(std::lround(c.y())),
+               static_cast<uint8_t>(std::lround(c.z()))},
+              std::move(seen_by)});
       }
     progress.Tick();
   }
+}
+
+FusedPointSink AppendTo(PointCloud* cloud, DenseVisibility* visibility) {
+  return [cloud, visibility](const FusedPoint& p) {
+    cloud->points.push_back(p.position);
+    cloud->normals.push_back(p.normal);
+    cloud->colors.push_back(p.color);
+    if (visibility) visibility->push_back(p.seen_by);
+  };
+}
+
+PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
+                         DenseVisibility* visibility) {
+  PointCloud cloud;
+  if (visibility) visibility->clear();
+  FuseDepthMaps(views, options, AppendTo(&cloud, visibility));
   return cloud;
 }
 

@@ -7,6 +7,7 @@
 // normal agree, and the point is kept when enough views joined. Each fused point carries the
 // images that see it (its visibility), which a visibility-based surface needs.
 #include <algorithm>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -66,10 +67,29 @@ struct FusionView {
 void FilterByGeometricConsistency(std::vector<FusionView>* views,
                                   const DepthFusionOptions& options);
 
-// Fuses the depth maps in view order and row-major pixel order (deterministic). Normals are the
-// members' mean (unit, world frame), colours their mean (RGB). `visibility`, when given, gets one
-// entry per point.
+// One fused point: the members' mean position, mean normal (unit, world frame) and mean colour
+// (RGB), and the ids of the images that see it (ascending).
+struct FusedPoint {
+  Eigen::Vector3d position;
+  Eigen::Vector3d normal;
+  Eigen::Matrix<uint8_t, 3, 1> color;
+  std::vector<image_t> seen_by;
+};
+
+// Takes each fused point as fusion makes it: a stage that writes the points out as they come
+// never holds the whole cloud (io/point_cloud_stream.h).
+using FusedPointSink = std::function<void(const FusedPoint&)>;
+
+// Fuses the depth maps in view order and row-major pixel order (deterministic), handing each
+// point to `sink` in that order.
+void FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
+                   const FusedPointSink& sink);
+
+// The same points gathered in a cloud; `visibility`, when given, gets one entry per point.
 PointCloud FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOptions& options,
                          DenseVisibility* visibility = nullptr);
+
+// A sink that appends to `cloud` (points, normals, colours) and, when given, to `visibility`.
+FusedPointSink AppendTo(PointCloud* cloud, DenseVisibility* visibility);
 
 }  // namespace varsfm

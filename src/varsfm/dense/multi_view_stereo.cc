@@ -151,11 +151,10 @@ size_t CountDepths(const std::vector<FusionView>& views) {
 
 }  // namespace
 
-PointCloud MultiViewStereo(const Reconstruction& rec,
-                           const std::function<cv::Mat(image_t)>& load_image,
-                           const MultiViewStereoOptions& options,
-                           const MultiViewStereoInputs& inputs, DenseVisibility* visibility,
-                           MultiViewStereoStats* stats) {
+void MultiViewStereoInto(const Reconstruction& rec,
+                         const std::function<cv::Mat(image_t)>& load_image,
+                         const MultiViewStereoOptions& options, const MultiViewStereoInputs& inputs,
+                         const FusedPointSink& sink, MultiViewStereoStats* stats) {
   MultiViewStereoStats local;
   MultiViewStereoStats& st = stats ? *stats : local;
   st = {};
@@ -285,14 +284,28 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
   if (inputs.covered)
     tbb::parallel_for(size_t{0}, fusion.size(),
                       [&](size_t r) { LeaveCovered(*inputs.covered, &fusion[r]); });
-  PointCloud cloud = FuseDepthMaps(fusion, options.fusion, visibility);
-  st.num_points = cloud.points.size();
+  size_t num_points = 0;
+  FuseDepthMaps(fusion, options.fusion, [&](const FusedPoint& p) {
+    sink(p);
+    ++num_points;
+  });
+  st.num_points = num_points;
   st.seconds_fusion = timer.Seconds();
   info(
       "multi-view stereo: {} depth maps, {} depths ({} beside the open background dropped), {} "
       "consistent, {} fused points (undistort {:.1f} s, patchmatch {:.1f} s, fusion {:.1f} s)",
       st.num_views, st.num_depths, st.num_beside_background, st.num_consistent, st.num_points,
       st.seconds_undistort, st.seconds_patchmatch, st.seconds_fusion);
+}
+
+PointCloud MultiViewStereo(const Reconstruction& rec,
+                           const std::function<cv::Mat(image_t)>& load_image,
+                           const MultiViewStereoOptions& options,
+                           const MultiViewStereoInputs& inputs, DenseVisibility* visibility,
+                           MultiViewStereoStats* stats) {
+  PointCloud cloud;
+  if (visibility) visibility->clear();
+  MultiViewStereoInto(rec, load_image, options, inputs, AppendTo(&cloud, visibility), stats);
   return cloud;
 }
 

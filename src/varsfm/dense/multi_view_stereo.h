@@ -67,8 +67,15 @@ struct MultiViewStereoInputs {
   const PointCloud* covered = nullptr;
 };
 
-// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). Throws
-// varsfm::Error when no registered view has a source view.
+// `load_image(image_id)` returns the photo of a registered image (BGR 8-bit). The fused points
+// go to `sink` as fusion makes them (depth_fusion.h). Throws varsfm::Error when no registered
+// view has a source view.
+void MultiViewStereoInto(const Reconstruction& reconstruction,
+                         const std::function<cv::Mat(image_t)>& load_image,
+                         const MultiViewStereoOptions& options, const MultiViewStereoInputs& inputs,
+                         const FusedPointSink& sink, MultiViewStereoStats* stats = nullptr);
+
+// The same, the points gathered in a cloud.
 PointCloud MultiViewStereo(const Reconstruction& reconstruction,
                            const std::function<cv::Mat(image_t)>& load_image,
                            const MultiViewStereoOptions& options,

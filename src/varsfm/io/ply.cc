@@ -18,10 +18,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The viewpoint element after the vertices (elements between are read and dropped); checks that
-// every visibility index names one.
-void ReadViewpoints(ply::ValueReader& reader, const ply::Header& header, const fs::path& file,
-                    PointCloud* cloud) {
+// The viewpoint element after the vertices (elements between are read and dropped).
+void ReadViewpointElement(ply::ValueReader& reader, const ply::Header& header, const fs::path& file,
+                          PointCloud* cloud) {
   std::vector<double> values;
   std::vector<std::vector<double>> lists;
   for (size_t e = 1; e < header.elements.size(); ++e) {
@@ -44,14 +43,28 @@ void ReadViewpoints(ply::ValueReader& reader, const ply::Header& header, const f
     }
     if (viewpoint) break;
   }
-  for (size_t i = 0; i < cloud->visibility.size(); ++i)
-    for (uint32_t v : cloud->visibility[i])
-      if (v >= cloud->viewpoints.size())
-        Fail("{}: vertex {} is seen from viewpoint {} of {}", file.string(), i, v,
-             cloud->viewpoints.size());
 }
 
 }  // namespace
+
+std::string PointCloudPlyHeader(size_t points, bool normals, bool colors, bool visibility,
+                                size_t viewpoints, const PlyWriteOptions& options) {
+  const char* type = options.double_precision ? "double" : "float";
+  std::string header = fmt::format(
+      "ply\nformat binary_little_endian 1.0\ncomment written by varsfm\nelement vertex {}\n",
+      points);
+  for (const char* axis : {"x", "y", "z"}) header += fmt::format("property {} {}\n", type, axis);
+  if (normals)
+    for (const char* axis : {"nx", "ny", "nz"})
+      header += fmt::format("property {} {}\n", type, axis);
+  if (colors) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (visibility)
+    header += fmt::format(
+        "property list uchar uint visibility\nelement viewpoint {}\nproperty double x\n"
+        "property double y\nproperty double z\n",
+        viewpoints);
+  return header + "end_header\n";
+}
 
 PointCloud SparsePointCloud(const Reconstruction& reconstruction) {
   PointCloud cloud;
@@ -79,20 +92,8 @@ void WritePly(const fs::path& file, const PointCloud& cloud, const PlyWriteOptio
              cloud.viewpoints.size());
   }
   WriteFileAtomically(file, [&](std::ostream& out) {
-    const char* type = options.double_precision ? "double" : "float";
-    out << "ply\nformat binary_little_endian 1.0\ncomment written by varsfm\n"
-        << fmt::format("element vertex {}\n", n);
-    for (const char* axis : {"x", "y", "z"}) out << fmt::format("property {} {}\n", type, axis);
-    if (cloud.HasNormals())
-      for (const char* axis : {"nx", "ny", "nz"})
-        out << fmt::format("property {} {}\n", type, axis);
-    if (cloud.HasColors()) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-    if (cloud.HasVisibility()) {
-      out << "property list uchar uint visibility\n"
-          << fmt::format("element viewpoint {}\n", cloud.viewpoints.size())
-          << "property double x\nproperty double y\nproperty double z\n";
-    }
-    out << "end_header\n";
+    out << PointCloudPlyHeader(n, cloud.HasNormals(), cloud.HasColors(), cloud.HasVisibility(),
+                               cloud.viewpoints.size(), options);
     auto put_vector = [&](const Eigen::Vector3d& v) {
       for (int k = 0; k < 3; ++k) {
         if (options.double_precision)
@@ -122,67 +123,92 @@ void WritePly(const Reconstruction& reconstruction, const fs::path& file,
   WritePly(file, SparsePointCloud(reconstruction), options);
 }
 
-PointCloud ReadPly(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail("{}: cannot open", file.string());
-  const ply::Header header = ply::ReadHeader(in, file);
-  if (header.elements.empty()) Fail("{}: no vertex element", file.string());
+PlyPointReader::PlyPointReader(const fs::path& file) : file_(file), in_(file, std::ios::binary) {
+  if (!in_) Fail("{}: cannot open", file.string());
+  header_ = ply::ReadHeader(in_, file);
+  if (header_.elements.empty()) Fail("{}: no vertex element", file.string());
   // Elements before the vertices would have to be skipped; writers put vertices first.
-  const ply::Element& vertex = header.elements.front();
+  const ply::Element& vertex = header_.elements.front();
   if (vertex.name != "vertex")
     Fail("{}: element {} before the vertices is not supported", file.string(), vertex.name);
   ply::RequireKnownTypes(vertex, file);
-  std::map<std::string, size_t> index;  // property name -> position in a vertex record
   for (size_t i = 0; i < vertex.properties.size(); ++i) {
     // A point cloud's only vertex list is its visibility; another is taken for a malformed file.
     if (vertex.properties[i].IsList() && vertex.properties[i].name != "visibility")
       Fail("{}: vertex property type list is not supported", file.string());
-    index[vertex.properties[i].name] = i;
+    index_[vertex.properties[i].name] = i;
   }
   auto has = [&](std::initializer_list<const char*> names) {
-    return std::all_of(names.begin(), names.end(), [&](const char* n) { return index.count(n); });
+    return std::all_of(names.begin(), names.end(), [&](const char* n) { return index_.count(n); });
   };
   if (!has({"x", "y", "z"})) Fail("{}: vertices lack x y z", file.string());
-  const bool normals = has({"nx", "ny", "nz"}), colors = has({"red", "green", "blue"});
-  const bool visibility = has({"visibility"});
+  normals_ = has({"nx", "ny", "nz"});
+  colors_ = has({"red", "green", "blue"});
+  visibility_ = has({"visibility"});
+  reader_.emplace(in_, header_.binary);
+}
 
-  PointCloud cloud;
-  ply::ValueReader reader(in, header.binary);
-  std::vector<double> values;
-  std::vector<std::vector<double>> lists;  // the visibility list, if any
-  for (size_t v = 0; v < vertex.count; ++v) {
-    if (!ply::ReadRecord(reader, vertex, &values, &lists)) {
-      if (header.binary) Fail("{}: truncated at vertex {}", file.string(), v);
-      Fail("{}: bad or truncated ascii vertex {}", file.string(), v);
-    }
-    auto vec = [&](const char* a, const char* b, const char* c) {
-      return Eigen::Vector3d(values[index[a]], values[index[b]], values[index[c]]);
-    };
-    // Refused here, where the file is known, rather than by every stage: a NaN or an infinity
-    // crashes the Poisson octree and sends grids and the Delaunay surface's ray walks astray.
-    cloud.points.push_back(vec("x", "y", "z"));
-    if (!cloud.points.back().allFinite())
-      Fail("{} has non-finite coordinates (vertex {})", file.string(), v);
-    if (normals) {
-      cloud.normals.push_back(vec("nx", "ny", "nz"));
-      if (!cloud.normals.back().allFinite())
-        Fail("{} has a non-finite normal (vertex {})", file.string(), v);
-    }
-    if (colors)
-      cloud.colors.emplace_back(ply::ColorByte(values[index["red"]]),
-                                ply::ColorByte(values[index["green"]]),
-                                ply::ColorByte(values[index["blue"]]));
-    if (visibility) {
-      std::vector<uint32_t>& views = cloud.visibility.emplace_back();
-      for (double v : lists[index["visibility"]]) {
-        if (!(v >= 0 && v < 4294967296.0))
-          Fail("{}: bad visibility index {} at vertex {}", file.string(), v,
-               cloud.points.size() - 1);
-        views.push_back(static_cast<uint32_t>(v));
-      }
+void PlyPointReader::Next(PlyPoint* point) {
+  const size_t v = next_++;
+  if (v >= size()) Fail("{}: read past its {} vertices", file_.string(), size());
+  if (!ply::ReadRecord(*reader_, header_.elements.front(), &values_, &lists_)) {
+    if (header_.binary) Fail("{}: truncated at vertex {}", file_.string(), v);
+    Fail("{}: bad or truncated ascii vertex {}", file_.string(), v);
+  }
+  auto vec = [&](const char* a, const char* b, const char* c) {
+    return Eigen::Vector3d(values_[index_[a]], values_[index_[b]], values_[index_[c]]);
+  };
+  // Refused here, where the file is known, rather than by every stage: a NaN or an infinity
+  // crashes the Poisson octree and sends grids and the Delaunay surface's ray walks astray.
+  point->position = vec("x", "y", "z");
+  if (!point->position.allFinite())
+    Fail("{} has non-finite coordinates (vertex {})", file_.string(), v);
+  if (normals_) {
+    point->normal = vec("nx", "ny", "nz");
+    if (!point->normal.allFinite())
+      Fail("{} has a non-finite normal (vertex {})", file_.string(), v);
+  }
+  if (colors_)
+    point->color = {ply::ColorByte(values_[index_["red"]]),
+                    ply::ColorByte(values_[index_["green"]]),
+                    ply::ColorByte(values_[index_["blue"]])};
+  point->visibility.clear();
+  if (!visibility_) return;
+  for (double i : lists_[index_["visibility"]]) {
+    if (!(i >= 0 && i < 4294967296.0))
+      Fail("{}: bad visibility index {} at vertex {}", file_.string(), i, v);
+    point->visibility.push_back(static_cast<uint32_t>(i));
+    if (static_cast<size_t>(i) + 1 > max_visibility_index_) {
+      max_visibility_index_ = static_cast<size_t>(i) + 1;
+      first_with_max_index_ = v;
     }
   }
-  if (visibility) ReadViewpoints(reader, header, file, &cloud);
+}
+
+std::vector<Eigen::Vector3d> PlyPointReader::ReadViewpoints() {
+  if (!visibility_) return {};
+  if (next_ != size())
+    Fail("{}: viewpoints read before the last of its {} vertices", file_.string(), size());
+  PointCloud cloud;
+  ReadViewpointElement(*reader_, header_, file_, &cloud);
+  if (max_visibility_index_ > cloud.viewpoints.size())
+    Fail("{}: vertex {} is seen from viewpoint {} of {}", file_.string(), first_with_max_index_,
+         max_visibility_index_ - 1, cloud.viewpoints.size());
+  return std::move(cloud.viewpoints);
+}
+
+PointCloud ReadPly(const fs::path& file) {
+  PlyPointReader reader(file);
+  PointCloud cloud;
+  PlyPoint point;
+  for (size_t v = 0; v < reader.size(); ++v) {
+    reader.Next(&point);
+    cloud.points.push_back(point.position);
+    if (reader.has_normals()) cloud.normals.push_back(point.normal);
+    if (reader.has_colors()) cloud.colors.push_back(point.color);
+    if (reader.has_visibility()) cloud.visibility.push_back(point.visibility);
+  }
+  cloud.viewpoints = reader.ReadViewpoints();
   return cloud;
 }
 

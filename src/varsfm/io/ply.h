@@ -3,8 +3,17 @@
 // optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read —
 // and optional visibility: a vertex list property `visibility` (uint indices) into a second
 // element `viewpoint` (double x y z, the camera centres), which viewers skip.
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
+#include <Eigen/Core>
+
+#include "varsfm/io/ply_format.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
 
@@ -15,6 +24,11 @@ struct PlyWriteOptions {
   // (large offsets) exact.
   bool double_precision = false;
 };
+
+// The header WritePly writes for `points` vertices (x y z, then nx ny nz and red green blue where
+// asked), with the visibility list and `viewpoints` viewpoint records when `visibility`.
+std::string PointCloudPlyHeader(size_t points, bool normals, bool colors, bool visibility,
+                                size_t viewpoints, const PlyWriteOptions& options = {});
 
 // The sparse model's 3D points with their colours (no normals), in point-id order.
 PointCloud SparsePointCloud(const Reconstruction& reconstruction);
@@ -33,5 +47,46 @@ void WritePly(const Reconstruction& reconstruction, const std::filesystem::path&
 // and red green blue when present, any scalar property types; the visibility list and the
 // viewpoint element when present. Throws varsfm::Error.
 PointCloud ReadPly(const std::filesystem::path& file);
+
+// One vertex of a PLY point cloud; the fields the file lacks stay empty or zero.
+struct PlyPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  Eigen::Matrix<uint8_t, 3, 1> color = Eigen::Matrix<uint8_t, 3, 1>::Zero();
+  std::vector<uint32_t> visibility;  // indices into the viewpoints
+};
+
+// ReadPly's reading one vertex at a time, for a cloud that need not be held whole (the mesh
+// stage merges a cloud larger than the memory as it reads it). Throws varsfm::Error as ReadPly.
+class PlyPointReader {
+ public:
+  explicit PlyPointReader(const std::filesystem::path& file);  // reads the header
+  PlyPointReader(const PlyPointReader&) = delete;
+  PlyPointReader& operator=(const PlyPointReader&) = delete;
+
+  size_t size() const { return header_.elements.front().count; }
+  bool has_normals() const { return normals_; }
+  bool has_colors() const { return colors_; }
+  bool has_visibility() const { return visibility_; }
+
+  // The next vertex (at most size() of them).
+  void Next(PlyPoint* point);
+  // Once every vertex is read: the viewpoint element (none without visibility), every visibility
+  // index read checked against it.
+  std::vector<Eigen::Vector3d> ReadViewpoints();
+
+ private:
+  std::filesystem::path file_;
+  std::ifstream in_;
+  ply::Header header_;
+  std::optional<ply::ValueReader> reader_;
+  std::map<std::string, size_t> index_;  // property name -> position in a vertex record
+  bool normals_ = false, colors_ = false, visibility_ = false;
+  size_t next_ = 0;
+  size_t max_visibility_index_ = 0;  // + 1; 0: none read
+  size_t first_with_max_index_ = 0;
+  std::vector<double> values_;
+  std::vector<std::vector<double>> lists_;
+};
 
 }  // namespace varsfm

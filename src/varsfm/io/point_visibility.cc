@@ -12,7 +12,7 @@ namespace fs = std::filesystem;
 namespace {
 
 template <typename T>
-T Get(std::ifstream& in, const fs::path& file) {
+T Get(std::istream& in, const fs::path& file) {
   char bytes[sizeof(T)];
   if (!in.read(bytes, sizeof(T))) Fail("{}: truncated", file.string());
   return GetLittleEndian<T>(bytes);
@@ -30,27 +30,40 @@ void WritePointVisibility(const fs::path& file, const PointVisibility& visibilit
   });
 }
 
-PointVisibility ReadPointVisibility(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) Fail("{}: cannot open", file.string());
+PointVisibilityReader::PointVisibilityReader(const fs::path& file)
+    : file_(file), in_(file, std::ios::binary) {
+  if (!in_) Fail("{}: cannot open", file.string());
   std::error_code ec;
-  const uintmax_t size = fs::file_size(file, ec);
+  bytes_ = fs::file_size(file, ec);
   if (ec) Fail("{}: cannot read its size", file.string());
-  const uint64_t n = Get<uint64_t>(in, file);
+  const uint64_t n = Get<uint64_t>(in_, file);
   // Each point takes at least its 4-byte count: a larger count is a damaged file, not a reason
   // to allocate.
-  if (n > (size - sizeof(uint64_t)) / sizeof(uint32_t))
-    Fail("{}: {} points do not fit in {} bytes", file.string(), n, size);
-  PointVisibility visibility(n);
-  for (auto& ids : visibility) {
-    const uint32_t count = Get<uint32_t>(in, file);
-    if (count > size / sizeof(uint32_t))
-      Fail("{}: a point seen by {} images does not fit in {} bytes", file.string(), count, size);
-    ids.resize(count);
-    for (image_t& id : ids) id = Get<uint32_t>(in, file);
-  }
-  if (in.peek() != std::ifstream::traits_type::eof())
-    Fail("{}: bytes after the last point", file.string());
+  if (n > (bytes_ - sizeof(uint64_t)) / sizeof(uint32_t))
+    Fail("{}: {} points do not fit in {} bytes", file.string(), n, bytes_);
+  count_ = static_cast<size_t>(n);
+}
+
+void PointVisibilityReader::Next(std::vector<image_t>* ids) {
+  if (next_++ >= count_) Fail("{}: read past its {} points", file_.string(), count_);
+  const uint32_t count = Get<uint32_t>(in_, file_);
+  if (count > bytes_ / sizeof(uint32_t))
+    Fail("{}: a point seen by {} images does not fit in {} bytes", file_.string(), count, bytes_);
+  ids->resize(count);
+  for (image_t& id : *ids) id = Get<uint32_t>(in_, file_);
+}
+
+void PointVisibilityReader::ExpectEnd() {
+  if (next_ != count_) Fail("{}: {} of its {} points read", file_.string(), next_, count_);
+  if (in_.peek() != std::ifstream::traits_type::eof())
+    Fail("{}: bytes after the last point", file_.string());
+}
+
+PointVisibility ReadPointVisibility(const fs::path& file) {
+  PointVisibilityReader reader(file);
+  PointVisibility visibility(reader.size());
+  for (auto& ids : visibility) reader.Next(&ids);
+  reader.ExpectEnd();
   return visibility;
 }
 

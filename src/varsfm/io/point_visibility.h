@@ -3,7 +3,9 @@
 // layout of COLMAP's fused.ply.vis (little-endian: uint64 point count, then per point a uint32
 // count and that many uint32 image ids), in the cloud's point order. A visibility-based surface
 // (rays from each camera to the points it sees) reads it.
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include "varsfm/util/types.h"
@@ -18,5 +20,24 @@ void WritePointVisibility(const std::filesystem::path& file, const PointVisibili
 
 // Throws varsfm::Error for a missing, truncated or inconsistent file.
 PointVisibility ReadPointVisibility(const std::filesystem::path& file);
+
+// ReadPointVisibility one point at a time, for a cloud read as it is merged (surface_input.h).
+// Throws varsfm::Error as ReadPointVisibility.
+class PointVisibilityReader {
+ public:
+  explicit PointVisibilityReader(const std::filesystem::path& file);  // reads the count
+  size_t size() const { return count_; }
+  // The next point's image ids (at most size() points).
+  void Next(std::vector<image_t>* ids);
+  // Throws varsfm::Error unless every point was read and the file ends there.
+  void ExpectEnd();
+
+ private:
+  std::filesystem::path file_;
+  std::ifstream in_;
+  uintmax_t bytes_ = 0;
+  size_t count_ = 0;
+  size_t next_ = 0;
+};
 
 }  // namespace varsfm

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "varsfm/util/error.h"
 
@@ -44,46 +45,65 @@ void ForEachInNeighbourCells(const CellMap& cells, const Cell& c, Visit&& visit)
 
 }  // namespace
 
+VoxelMerge::VoxelMerge(double voxel_size, bool normals, bool colors, bool visibility)
+    : voxel_size_(voxel_size), normals_(normals), colors_(colors), visibility_(visibility) {
+  if (!(voxel_size > 0)) Fail("VoxelMerge: voxel size must be positive");
+}
+
+void VoxelMerge::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                     const Eigen::Matrix<uint8_t, 3, 1>& color,
+                     const std::vector<uint32_t>& visibility) {
+  auto [it, inserted] = slot_.try_emplace(Key(CellOf(point, voxel_size_)), voxels_.size());
+  if (inserted) voxels_.emplace_back();
+  Voxel& v = voxels_[it->second];
+  v.point += point;
+  if (normals_) v.normal += normal;
+  if (colors_) v.color += color.cast<double>();
+  if (visibility_ && !visibility.empty()) {
+    // The union kept as it grows, not after: a voxel of a dense cloud gathers dozens of points
+    // seen by the same few views.
+    merged_.clear();
+    if (std::is_sorted(visibility.begin(), visibility.end())) {
+      std::set_union(v.views.begin(), v.views.end(), visibility.begin(), visibility.end(),
+                     std::back_inserter(merged_));
+    } else {
+      std::vector<uint32_t> sorted = visibility;
+      std::sort(sorted.begin(), sorted.end());
+      std::set_union(v.views.begin(), v.views.end(), sorted.begin(), sorted.end(),
+                     std::back_inserter(merged_));
+    }
+    merged_.erase(std::unique(merged_.begin(), merged_.end()), merged_.end());
+    v.views.assign(merged_.begin(), merged_.end());
+  }
+  ++v.count;
+}
+
+PointCloud VoxelMerge::Result() && {
+  PointCloud out;
+  for (Voxel& v : voxels_) {
+    if (normals_) {
+      if (v.normal.norm() < 1e-6 * v.count) continue;
+      out.normals.push_back(v.normal.normalized());
+    }
+    out.points.push_back(v.point / v.count);
+    if (colors_) out.colors.push_back((v.color / v.count).array().round().cast<uint8_t>());
+    if (visibility_) out.visibility.push_back(std::move(v.views));
+  }
+  voxels_.clear();
+  slot_.clear();
+  return out;
+}
+
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size) {
   if (voxel_size <= 0) return cloud;
-  struct Acc {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero(),
-                    c = Eigen::Vector3d::Zero();
-    int count = 0;
-    std::vector<uint32_t> views;
-  };
-  std::unordered_map<uint64_t, size_t> slot;
-  std::vector<Acc> acc;
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    auto [it, inserted] = slot.try_emplace(Key(CellOf(cloud.points[i], voxel_size)), acc.size());
-    if (inserted) acc.emplace_back();
-    Acc& a = acc[it->second];
-    a.p += cloud.points[i];
-    if (cloud.HasNormals()) a.n += cloud.normals[i];
-    if (cloud.HasColors()) a.c += cloud.colors[i].cast<double>();
-    if (cloud.HasVisibility())
-      a.views.insert(a.views.end(), cloud.visibility[i].begin(), cloud.visibility[i].end());
-    ++a.count;
-  }
-  PointCloud out;
+  VoxelMerge merge(voxel_size, cloud.HasNormals(), cloud.HasColors(), cloud.HasVisibility());
+  static const std::vector<uint32_t> kNone;
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    merge.Add(cloud.points[i], cloud.HasNormals() ? cloud.normals[i] : Eigen::Vector3d::Zero(),
+              cloud.HasColors() ? cloud.colors[i] : Eigen::Matrix<uint8_t, 3, 1>::Zero(),
+              cloud.HasVisibility() ? cloud.visibility[i] : kNone);
+  PointCloud out = std::move(merge).Result();
   out.viewpoints = cloud.viewpoints;
-  for (Acc& a : acc) {
-    if (cloud.HasNormals()) {
-      // Opposite normals in one voxel (a thin wall) cancel: drop that voxel rather than
-      // hand Poisson an arbitrary orientation.
-      if (a.n.norm() < 1e-6 * a.count) continue;
-      out.normals.push_back(a.n.normalized());
-    }
-    out.points.push_back(a.p / a.count);
-    if (cloud.HasColors()) {
-      out.colors.push_back((a.c / a.count).array().round().cast<uint8_t>());
-    }
-    if (cloud.HasVisibility()) {
-      std::sort(a.views.begin(), a.views.end());
-      a.views.erase(std::unique(a.views.begin(), a.views.end()), a.views.end());
-      out.visibility.push_back(std::move(a.views));
-    }
-  }
   return out;
 }
 

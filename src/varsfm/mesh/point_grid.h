@@ -12,6 +12,35 @@
 
 namespace varsfm {
 
+// Points merged per voxel as they come (VoxelDownsample's merge, for a cloud read point by point:
+// surface_input.h): per voxel the mean position, the normalised mean normal, the mean colour and
+// the union of the visibility, of the parts the constructor names.
+class VoxelMerge {
+ public:
+  VoxelMerge(double voxel_size, bool normals, bool colors, bool visibility);
+  // `normal`, `color` and `visibility` are read where the constructor asked for them.
+  void Add(const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+           const Eigen::Matrix<uint8_t, 3, 1>& color, const std::vector<uint32_t>& visibility);
+  size_t size() const { return voxels_.size(); }  // voxels so far
+  // The merged points, in the order their voxels were first met (viewpoints left empty). A voxel
+  // whose normals cancel (the two sides of a thin wall) is dropped rather than given an
+  // arbitrary orientation.
+  PointCloud Result() &&;
+
+ private:
+  struct Voxel {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero(),
+                    color = Eigen::Vector3d::Zero();
+    int count = 0;
+    std::vector<uint32_t> views;  // ascending, unique
+  };
+  double voxel_size_;
+  bool normals_, colors_, visibility_;
+  std::unordered_map<uint64_t, size_t> slot_;
+  std::vector<Voxel> voxels_;
+  std::vector<uint32_t> merged_;  // scratch of the union
+};
+
 // Replaces the points of each voxel_size cube by their mean (normals: normalised mean, colours:
 // mean, visibility: the union). voxel_size <= 0 returns the cloud unchanged.
 PointCloud VoxelDownsample(const PointCloud& cloud, double voxel_size);

@@ -4,27 +4,11 @@
 
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/mesh/merged_read.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
-namespace {
-
-// The visibility beside `file` (file.vis) with the camera centres of `model` (read from
-// `model_dir`).
-void ReadVisibilityBeside(const std::filesystem::path& file, const std::filesystem::path& model_dir,
-                          const Reconstruction& model, PointCloud* cloud) {
-  std::filesystem::path vis = file;
-  vis += ".vis";
-  try {
-    AttachVisibility(ReadPointVisibility(vis), model, cloud);
-  } catch (const Error& e) {
-    Fail("{} with the model in {}: {}", vis.string(), model_dir.string(), e.what());
-  }
-}
-
-}  // namespace
-
 void AttachVisibility(const PointVisibility& visibility, const Reconstruction& model,
                       PointCloud* cloud) {
   if (visibility.size() != cloud->points.size())
@@ -50,29 +34,54 @@ void AttachVisibility(const PointVisibility& visibility, const Reconstruction& m
 }
 
 SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                              const std::filesystem::path& sparse, int holdout) {
+                              const std::filesystem::path& sparse, int holdout, size_t max_points) {
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
   SurfaceInput input;
-  PointCloud& cloud = input.cloud;
-  cloud = ReadPly(file);
-  if (cloud.points.empty()) Fail("{}: the point cloud is empty", file.string());
-  if (method == SurfaceMethod::kScreenedPoisson && !cloud.HasNormals()) {
-    Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront", file.string());
+  bool own_visibility = false;
+  {
+    const PlyPointReader header(file);
+    input.file_points = header.size();
+    if (input.file_points == 0) Fail("{}: the point cloud is empty", file.string());
+    if (method == SurfaceMethod::kScreenedPoisson && !header.has_normals())
+      Fail("{}: Poisson reconstruction needs normals (nx ny nz); try --method afront",
+           file.string());
+    own_visibility = header.has_visibility();
   }
-  if (method != SurfaceMethod::kDelaunay) return input;
   std::filesystem::path vis = file;
   vis += ".vis";
-  if (!cloud.HasVisibility() && !std::filesystem::is_regular_file(vis))
+  const bool delaunay = method == SurfaceMethod::kDelaunay;
+  if (delaunay && !own_visibility && !std::filesystem::is_regular_file(vis))
     Fail(
         "{}: the Delaunay surface needs the points' visibility, in the PLY or beside it as {} "
         "(written by densify); try --method poisson",
         file.string(), vis.filename().string());
   const std::filesystem::path model_dir = sparse.empty() ? file.parent_path() / "sparse" : sparse;
+  const bool vis_beside = delaunay && !own_visibility;
+  PointCloud& cloud = input.cloud;
+  PointVisibility merged_ids;
+  if (max_points > 0 && input.file_points > max_points) {
+    MergedRead read = ReadMerged(file, vis_beside ? vis : std::filesystem::path(), max_points);
+    cloud = std::move(read.cloud);
+    merged_ids = std::move(read.image_ids);
+    input.read_voxel = read.voxel;
+  } else {
+    cloud = ReadPly(file);
+  }
+  if (!delaunay) return input;
   // A cloud with its own visibility (match propagation's) needs no model: without one beside it,
   // every long face goes.
-  if (cloud.HasVisibility() && !std::filesystem::exists(model_dir)) return input;
+  if (own_visibility && !std::filesystem::exists(model_dir)) return input;
   Reconstruction model = ReadColmapModel(model_dir);
-  if (!cloud.HasVisibility()) ReadVisibilityBeside(file, model_dir, model, &cloud);
+  if (vis_beside) {
+    try {
+      if (input.read_voxel > 0)
+        AttachVisibility(merged_ids, model, &cloud);
+      else
+        AttachVisibility(ReadPointVisibility(vis), model, &cloud);
+    } catch (const Error& e) {
+      Fail("{} with the model in {}: {}", vis.string(), model_dir.string(), e.what());
+    }
+  }
   HoldOutImages(&model, holdout);  // once the visibility (any registered image) is attached
   for (const auto& [id, image] : model.images())
     if (image.registered) input.views.push_back({model.CameraOf(id), image.cam_from_world});

@@ -23,6 +23,8 @@ void AttachVisibility(const PointVisibility& visibility, const Reconstruction& m
 
 struct SurfaceInput {
   PointCloud cloud;
+  size_t file_points = 0;  // points in the file; more than the cloud's where it was read merged
+  double read_voxel = 0;   // the merge voxel of a cloud read merged (merged_read.h); 0: whole
   // Delaunay: the registered cameras of the model, which judge the long faces (long_faces.h);
   // empty for the other methods, and for a cloud with its own visibility and no model beside it.
   std::vector<PosedCamera> views;
@@ -34,8 +36,10 @@ struct SurfaceInput {
 // empty `sparse` means `file`'s folder/sparse, where `varsfm run` writes it) gives the views,
 // and a PLY without its own visibility takes `file`.vis with that model's camera centres. The
 // views leave out the model's held-out images (every `holdout`-th, scene/holdout.h; 0: none),
-// as densification and texturing do.
+// as densification and texturing do. A file of more than `max_points` points (0: no limit) is
+// read merged to at most that many (ReadMerged, merged_read.h).
 SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
-                              const std::filesystem::path& sparse = {}, int holdout = 0);
+                              const std::filesystem::path& sparse = {}, int holdout = 0,
+                              size_t max_points = 0);
 
 }  // namespace varsfm

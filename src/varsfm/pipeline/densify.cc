@@ -1,12 +1,14 @@
 #include "varsfm/pipeline/densify.h"
 
 #include <cstdint>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "varsfm/dense/multi_view_stereo.h"
 #include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
+#include "varsfm/io/point_cloud_stream.h"
 #include "varsfm/io/point_visibility.h"
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/scratch_choice.h"
@@ -14,13 +16,19 @@
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/even_sample.h"
 #include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/path_lock.h"
+#include "varsfm/util/scratch_memory.h"
 #include "varsfm/util/timer.h"
 
 namespace varsfm {
 namespace {
+
+// The dense points the check against the sparse model measures (MeasureAgainstSparse's
+// max_checked): evenly spread, a few thousand give its medians to a fraction of a per cent.
+constexpr size_t kCheckedDensePoints = 20000;
 
 void WriteSummary(const std::filesystem::path& file, const DensifySummary& r, uint64_t seed,
                   double seconds_check) {
@@ -98,25 +106,45 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   const auto load = [&](image_t id) { return ReadModelPhoto(rec, id, options.image_dir); };
   DensifySummary result;
   result.method = options.dense.method;
-  PointVisibility visibility;
   DenseReconstructionOptions dense = options.dense;
   dense.mvs.scratch_folder = ScratchFolderFor(
       options.output,
       ViewBytes(rec, dense.mvs.max_image_size, MultiViewStereoOptions::kViewBytesPerPixel),
       "densify: the views' photos and depth maps");
-  const PointCloud cloud = Densify(rec, load, dense, &result.stats, &visibility);
+  // PatchMatch's points go to scratch files on the output's disk as fusion makes them, so the
+  // cloud is never whole in memory (a thousand photos at 800 px make tens of millions of points);
+  // the other methods' clouds are made in memory.
+  std::optional<PointCloudStream> stream;
+  EvenSample<Eigen::Vector3d> checked(kCheckedDensePoints);
+  PointCloud cloud;
+  PointVisibility visibility;
+  if (StreamsPoints(dense.method)) {
+    stream.emplace(NearestExistingFolder(options.output));
+    DensifyInto(rec, load, dense, &result.stats, [&](const FusedPoint& p) {
+      stream->Add(p.position, p.normal, p.color, p.seen_by);
+      checked.Add(p.position);
+    });
+    result.num_points = stream->size();
+  } else {
+    cloud = Densify(rec, load, dense, &result.stats, &visibility);
+    result.num_points = cloud.points.size();
+  }
   // Checked before anything is written, so that a failed run leaves no empty dense.ply for the
   // mesh stage to pick up.
-  if (cloud.points.empty()) Fail("{}", EmptyCloudMessage(rec, options.dense));
+  if (result.num_points == 0) Fail("{}", EmptyCloudMessage(rec, options.dense));
   output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kDensify);
   WriteOutputsTogether(options.output, ChainStage::kDensify, [&] {
+    if (stream) {
+      stream->Write(options.output / "dense.ply", options.output / "dense.ply.vis");
+      return;
+    }
     WritePly(options.output / "dense.ply", cloud);
     WritePointVisibility(options.output / "dense.ply.vis", visibility);
   });
-  result.num_points = cloud.points.size();
   Timer check_timer;
-  result.quality = MeasureAgainstSparse(cloud.points, rec);
+  result.quality =
+      MeasureAgainstSparse(stream ? checked.items() : cloud.points, rec, 8, kCheckedDensePoints);
   const double seconds_check = check_timer.Seconds();
   result.seconds = timer.Seconds();
   info(

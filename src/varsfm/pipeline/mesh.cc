@@ -17,6 +17,7 @@ namespace varsfm {
 
 void MeshOptions::Check() const {
   CheckHoldout(holdout);
+  if (max_read_points != 0) CheckAtLeast("--max-read-points", max_read_points, size_t{10});
   surface.Check();
 }
 
@@ -26,17 +27,24 @@ size_t MergedPointsWithin(size_t bytes, size_t input_points) {
   return std::max(left / kBytesPerMergedPoint, kMinMergedPoints);
 }
 
+size_t InputPointsWithin(size_t bytes) {
+  return std::max(bytes / 2 / kBytesPerInputPoint, kMinMergedPoints);
+}
+
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   if (check == OptionsCheck::kByStage) options.Check();
   OutputFolderLock output_lock(options.output);
   Timer timer;
-  const SurfaceInput input =
-      ReadSurfaceInput(options.input, options.surface.method, options.sparse, options.holdout);
+  const size_t memory = UsableMemoryBytes() / 4 * 3;
+  const SurfaceInput input = ReadSurfaceInput(
+      options.input, options.surface.method, options.sparse, options.holdout,
+      options.max_read_points > 0 ? options.max_read_points : InputPointsWithin(memory));
   SurfaceOptions surface = options.surface;
   if (surface.delaunay.max_merged_points == 0)
-    surface.delaunay.max_merged_points =
-        MergedPointsWithin(UsableMemoryBytes() / 4 * 3, input.cloud.points.size());
+    surface.delaunay.max_merged_points = MergedPointsWithin(memory, input.cloud.points.size());
   MeshSummary result;
+  result.file_points = input.file_points;
+  result.read_voxel = input.read_voxel;
   TriangleMesh mesh;
   try {
     mesh = ReconstructSurface(input.cloud, surface, &result.stats, input.views);
@@ -63,19 +71,18 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
 
 nlohmann::json MeshSummaryJson(const MeshSummary& result) {
   const MeshQuality& q = result.stats.quality;
-  nlohmann::json json = {{"points", result.stats.input_points},
-                         {"surface_points", result.stats.used_points},
-                         {"depth", result.stats.depth},
-                         {"vertices", result.num_vertices},
-                         {"faces", result.num_faces},
-                         {"median_distance", q.median_distance},
-                         {"extent", q.extent},
-                         {"relative_distance", q.RelativeDistance()},
-                         {"seconds", result.seconds}};
+  nlohmann::json json = {
+      {"points", result.file_points}, {"surface_points", result.stats.used_points},
+      {"depth", result.stats.depth},  {"vertices", result.num_vertices},
+      {"faces", result.num_faces},    {"median_distance", q.median_distance},
+      {"extent", q.extent},           {"relative_distance", q.RelativeDistance()},
+      {"seconds", result.seconds}};
   // The Delaunay surface's merge voxel in point spacings: above --merge-spacing where the memory
   // cap merged more coarsely.
   if (result.stats.delaunay.merge_voxel > 0 && result.stats.average_spacing > 0)
     json["merge_spacing"] = result.stats.delaunay.merge_voxel / result.stats.average_spacing;
+  // A cloud larger than the memory: read merged at this voxel (scene units) before all else.
+  if (result.read_voxel > 0) json["read_merge_voxel"] = result.read_voxel;
   return json;
 }
 

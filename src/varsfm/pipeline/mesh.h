@@ -22,6 +22,9 @@ struct MeshOptions {
   // Every N-th registered image (scene/holdout.h) is not one of the views that judge the long
   // faces (0: none): what densify and texture held out, mesh leaves out too.
   int holdout = 0;
+  // A cloud of more points than this is read merged to this many (mesh/merged_read.h); 0 stands
+  // for the points that half of three quarters of the usable memory holds (InputPointsWithin).
+  size_t max_read_points = 0;
   // surface.delaunay.max_merged_points 0 stands for the points whose surface fits in three
   // quarters of the usable memory (MergedPointsWithin, util/usable_memory.h).
   SurfaceOptions surface;
@@ -33,6 +36,8 @@ struct MeshOptions {
 
 struct MeshSummary {
   SurfaceStats stats;
+  size_t file_points = 0;  // points in the input file
+  double read_voxel = 0;   // where the cloud was read merged, the merge voxel; 0: read whole
   size_t num_vertices = 0;
   size_t num_faces = 0;
   EdgeTopology topology;
@@ -52,14 +57,19 @@ inline constexpr size_t kMinMergedPoints = 100000;
 // least kMinMergedPoints.
 size_t MergedPointsWithin(size_t bytes, size_t input_points);
 
+// The points of a cloud read whole that take at most half of `bytes`, leaving the other half to
+// its surface; at least kMinMergedPoints. A larger cloud is read merged to this many.
+size_t InputPointsWithin(size_t bytes);
+
 // Throws varsfm::Error (one line naming the file) for a missing, unreadable or empty PLY, one
 // without normals when the method is Poisson, one without visibility (in the PLY, or INPUT.vis
 // with the sparse model) when it is Delaunay, or a mesh that fails the check (mesh_quality.h).
 MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check = OptionsCheck::kByStage);
 
-// The figures summary.json keeps of a mesh stage: points, the points the surface was made of
-// (merged or downsampled), octree depth, vertices, faces, median vertex-to-point distance, the
-// cloud's extent, their ratio, seconds, and the Delaunay surface's merge spacing.
+// The figures summary.json keeps of a mesh stage: points (in the file), the points the surface
+// was made of (merged or downsampled), octree depth, vertices, faces, median vertex-to-point
+// distance, the cloud's extent, their ratio, seconds, the Delaunay surface's merge spacing, and
+// the voxel of a cloud read merged.
 nlohmann::json MeshSummaryJson(const MeshSummary& result);
 
 }  // namespace varsfm

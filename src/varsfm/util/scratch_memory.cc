@@ -6,32 +6,12 @@
 
 #include <cerrno>
 #include <cstring>
-#include <string>
-#include <vector>
 
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
+#include "varsfm/util/scratch_file.h"
 
 namespace varsfm {
-namespace {
-
-// An unnamed file in `folder`: O_TMPFILE where the file system supports it, else a named file
-// unlinked at once.
-int OpenUnnamedFile(const std::filesystem::path& folder) {
-#ifdef O_TMPFILE
-  const int fd = open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
-  if (fd >= 0) return fd;
-#endif
-  std::string name = (folder / ".varsfm-scratch-XXXXXX").string();
-  std::vector<char> buffer(name.begin(), name.end());
-  buffer.push_back('\0');
-  const int named = mkostemp(buffer.data(), O_CLOEXEC);
-  if (named < 0) return -1;
-  unlink(buffer.data());
-  return named;
-}
-
-}  // namespace
 
 std::shared_ptr<ScratchMemory> ScratchMemory::Create(const std::filesystem::path& folder,
                                                      size_t bytes) {
