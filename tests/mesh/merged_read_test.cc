@@ -96,6 +96,8 @@ TEST(MergedRead, CountsThatDisagreeAreOneError) {
   ids.pop_back();
   WritePointVisibility(tmp.path() / "dense.ply.vis", ids);
   EXPECT_THROW(ReadMerged(tmp.path() / "dense.ply", tmp.path() / "dense.ply.vis", 100), Error);
+  // Fewer points than the eight voxels around the origin always keep: refused, not looped on.
+  EXPECT_THROW(ReadMerged(tmp.path() / "dense.ply", {}, kMinMergedReadPoints - 1), Error);
 }
 
 }  // namespace

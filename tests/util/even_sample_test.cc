@@ -1,5 +1,8 @@
 #include "varsfm/util/even_sample.h"
 
+#include <string>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 namespace varsfm {
@@ -24,6 +27,13 @@ TEST(EvenSample, EveryPowerOfTwoStrideFromTheFirst) {
     // The last item kept is within one stride of the end: the sample spans the whole stream.
     EXPECT_GT(items.back() + stride, n - 1) << n;
   }
+}
+
+TEST(EvenSample, KeepsItsFirstItemWhenTheStrideDoubles) {
+  // Items that a move empties: the first one stays in place, not moved onto itself.
+  EvenSample<std::string> sample(2);
+  for (int i = 0; i < 9; ++i) sample.Add("item" + std::to_string(i));
+  EXPECT_EQ(sample.items(), (std::vector<std::string>{"item0", "item4", "item8"}));
 }
 
 }  // namespace

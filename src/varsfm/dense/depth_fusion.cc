@@ -221,11 +221,11 @@ void FuseDepthMaps(const std::vector<FusionView>& views, const DepthFusionOption
 }
 
 FusedPointSink AppendTo(PointCloud* cloud, DenseVisibility* visibility) {
-  return [cloud, visibility](const FusedPoint& p) {
+  return [cloud, visibility](FusedPoint&& p) {
     cloud->points.push_back(p.position);
     cloud->normals.push_back(p.normal);
     cloud->colors.push_back(p.color);
-    if (visibility) visibility->push_back(p.seen_by);
+    if (visibility) visibility->push_back(std::move(p.seen_by));
   };
 }
 

@@ -76,9 +76,9 @@ struct FusedPoint {
   std::vector<image_t> seen_by;
 };
 
-// Takes each fused point as fusion makes it: a stage that writes the points out as they come
-// never holds the whole cloud (io/point_cloud_stream.h).
-using FusedPointSink = std::function<void(const FusedPoint&)>;
+// Takes each fused point as fusion makes it, in fusion's order and on the calling thread: a stage
+// that writes the points out as they come never holds the whole cloud (io/point_cloud_stream.h).
+using FusedPointSink = std::function<void(FusedPoint&&)>;
 
 // Fuses the depth maps in view order and row-major pixel order (deterministic), handing each
 // point to `sink` in that order.

@@ -285,8 +285,8 @@ void MultiViewStereoInto(const Reconstruction& rec,
     tbb::parallel_for(size_t{0}, fusion.size(),
                       [&](size_t r) { LeaveCovered(*inputs.covered, &fusion[r]); });
   size_t num_points = 0;
-  FuseDepthMaps(fusion, options.fusion, [&](const FusedPoint& p) {
-    sink(p);
+  FuseDepthMaps(fusion, options.fusion, [&](FusedPoint&& p) {
+    sink(std::move(p));
     ++num_points;
   });
   st.num_points = num_points;

@@ -145,6 +145,11 @@ PlyPointReader::PlyPointReader(const fs::path& file) : file_(file), in_(file, st
   normals_ = has({"nx", "ny", "nz"});
   colors_ = has({"red", "green", "blue"});
   visibility_ = has({"visibility"});
+  for (const ply::Element& element : header_.elements)
+    if (element.name == "viewpoint") {
+      viewpoints_ = element.count;
+      break;
+    }
   reader_.emplace(in_, header_.binary);
 }
 
@@ -178,10 +183,8 @@ void PlyPointReader::Next(PlyPoint* point) {
     if (!(i >= 0 && i < 4294967296.0))
       Fail("{}: bad visibility index {} at vertex {}", file_.string(), i, v);
     point->visibility.push_back(static_cast<uint32_t>(i));
-    if (static_cast<size_t>(i) + 1 > max_visibility_index_) {
-      max_visibility_index_ = static_cast<size_t>(i) + 1;
-      first_with_max_index_ = v;
-    }
+    if (static_cast<size_t>(i) >= viewpoints_ && !bad_index_)
+      bad_index_.emplace(v, static_cast<size_t>(i));
   }
 }
 
@@ -191,9 +194,9 @@ std::vector<Eigen::Vector3d> PlyPointReader::ReadViewpoints() {
     Fail("{}: viewpoints read before the last of its {} vertices", file_.string(), size());
   PointCloud cloud;
   ReadViewpointElement(*reader_, header_, file_, &cloud);
-  if (max_visibility_index_ > cloud.viewpoints.size())
-    Fail("{}: vertex {} is seen from viewpoint {} of {}", file_.string(), first_with_max_index_,
-         max_visibility_index_ - 1, cloud.viewpoints.size());
+  if (bad_index_)
+    Fail("{}: vertex {} is seen from viewpoint {} of {}", file_.string(), bad_index_->first,
+         bad_index_->second, cloud.viewpoints.size());
   return std::move(cloud.viewpoints);
 }
 

@@ -83,8 +83,9 @@ class PlyPointReader {
   std::map<std::string, size_t> index_;  // property name -> position in a vertex record
   bool normals_ = false, colors_ = false, visibility_ = false;
   size_t next_ = 0;
-  size_t max_visibility_index_ = 0;  // + 1; 0: none read
-  size_t first_with_max_index_ = 0;
+  size_t viewpoints_ = 0;  // records of the viewpoint element the header declares
+  // The first vertex seen from a viewpoint the file does not have, and that index.
+  std::optional<std::pair<size_t, size_t>> bad_index_;
   std::vector<double> values_;
   std::vector<std::vector<double>> lists_;
 };

@@ -51,23 +51,27 @@ double FirstVoxel(const std::filesystem::path& file, size_t max_points, MergedRe
 
 MergedRead ReadMerged(const std::filesystem::path& file,
                       const std::filesystem::path& visibility_file, size_t max_points) {
-  if (max_points == 0) Fail("ReadMerged: max_points must be positive");
+  if (max_points < kMinMergedReadPoints)
+    Fail("ReadMerged: at most {} points asked for; at least {} remain", max_points,
+         kMinMergedReadPoints);
+  const bool with_ids = !visibility_file.empty();
+  if (with_ids) {  // before the first pass over a large file
+    const PointVisibilityReader ids(visibility_file);
+    const PlyPointReader points(file);
+    if (ids.size() != points.size())
+      Fail("{}: visibility of {} points for a cloud of {}", visibility_file.string(), ids.size(),
+           points.size());
+  }
   MergedRead read;
   const double first_voxel = FirstVoxel(file, max_points, &read);
   double voxel = first_voxel;
-  const bool with_ids = !visibility_file.empty();
   PlyPoint point;
   std::vector<image_t> ids;
   for (;;) {
     ++read.passes;
     PlyPointReader reader(file);
     std::optional<PointVisibilityReader> ids_reader;
-    if (with_ids) {
-      ids_reader.emplace(visibility_file);
-      if (ids_reader->size() != reader.size())
-        Fail("{}: visibility of {} points for a cloud of {}", visibility_file.string(),
-             ids_reader->size(), reader.size());
-    }
+    if (with_ids) ids_reader.emplace(visibility_file);
     // The ids beside the file, where given, stand for its own visibility.
     VoxelMerge merge(voxel, reader.has_normals(), reader.has_colors(),
                      reader.has_visibility() || with_ids);

@@ -11,6 +11,10 @@
 
 namespace varsfm {
 
+// However large the voxel, a cloud around the origin keeps a point in each of the eight voxels
+// that meet there.
+inline constexpr size_t kMinMergedReadPoints = 8;
+
 struct MergedRead {
   // The merged points: normals and colours where the file has them, and its own visibility (its
   // viewpoints with it) when it holds one and no `visibility_file` is given.
@@ -25,11 +29,12 @@ struct MergedRead {
 
 // Reads `file` (a PLY point cloud, io/ply.h) and, where `visibility_file` is not empty, the
 // image ids beside it (io/point_visibility.h), merged at the smallest voxel tried that leaves at
-// most `max_points` (>= 1) points. The first voxel tried comes from the spacing of an even
-// sample of the points, scaled to the whole cloud as points on a surface are (spacing ~ 1 /
-// sqrt(count)); a pass that would exceed max_points stops and the voxel grows by the square root
-// of the overshoot it projects. The cap bounds the memory: the points that remain may be fewer. Throws varsfm::Error as ReadPly and ReadPointVisibility do, and
-// when the two files' counts differ.
+// most `max_points` points, at least kMinMergedReadPoints. The first voxel tried comes from the
+// spacing of an even sample of the points, scaled to the whole cloud as points on a surface are
+// (spacing ~ 1 / sqrt(count)); a pass that would exceed max_points stops and the voxel grows by
+// the square root of the overshoot it projects. The cap bounds the memory: the points that
+// remain may be fewer. Throws varsfm::Error as ReadPly and ReadPointVisibility do, when the two
+// files' counts differ, and for a max_points below kMinMergedReadPoints.
 MergedRead ReadMerged(const std::filesystem::path& file,
                       const std::filesystem::path& visibility_file, size_t max_points);
 

@@ -66,14 +66,14 @@ void VoxelMerge::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& normal
     if (std::is_sorted(visibility.begin(), visibility.end())) {
       std::set_union(v.views.begin(), v.views.end(), visibility.begin(), visibility.end(),
                      std::back_inserter(merged_));
-    } else {
-      std::vector<uint32_t> sorted = visibility;
-      std::sort(sorted.begin(), sorted.end());
-      std::set_union(v.views.begin(), v.views.end(), sorted.begin(), sorted.end(),
+    } else {  // a foreign file's lists need not be ascending
+      unsorted_.assign(visibility.begin(), visibility.end());
+      std::sort(unsorted_.begin(), unsorted_.end());
+      std::set_union(v.views.begin(), v.views.end(), unsorted_.begin(), unsorted_.end(),
                      std::back_inserter(merged_));
     }
     merged_.erase(std::unique(merged_.begin(), merged_.end()), merged_.end());
-    v.views.assign(merged_.begin(), merged_.end());
+    v.views.swap(merged_);
   }
   ++v.count;
 }

@@ -38,7 +38,8 @@ class VoxelMerge {
   bool normals_, colors_, visibility_;
   std::unordered_map<uint64_t, size_t> slot_;
   std::vector<Voxel> voxels_;
-  std::vector<uint32_t> merged_;  // scratch of the union
+  std::vector<uint32_t> merged_;    // scratch of the union
+  std::vector<uint32_t> unsorted_;  // scratch: a list that came unsorted, sorted
 };
 
 // Replaces the points of each voxel_size cube by their mean (normals: normalised mean, colours:

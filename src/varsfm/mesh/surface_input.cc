@@ -74,7 +74,7 @@ SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod m
   Reconstruction model = ReadColmapModel(model_dir);
   if (vis_beside) {
     try {
-      if (input.read_voxel > 0)
+      if (input.WasReadMerged())
         AttachVisibility(merged_ids, model, &cloud);
       else
         AttachVisibility(ReadPointVisibility(vis), model, &cloud);

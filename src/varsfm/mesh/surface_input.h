@@ -25,6 +25,8 @@ struct SurfaceInput {
   PointCloud cloud;
   size_t file_points = 0;  // points in the file; more than the cloud's where it was read merged
   double read_voxel = 0;   // the merge voxel of a cloud read merged (merged_read.h); 0: whole
+
+  bool WasReadMerged() const { return read_voxel > 0; }
   // Delaunay: the registered cameras of the model, which judge the long faces (long_faces.h);
   // empty for the other methods, and for a cloud with its own visibility and no model beside it.
   std::vector<PosedCamera> views;
