@@ -40,7 +40,8 @@ TEST(PointCloudStream, WritesWhatWritePlyAndWritePointVisibilityWrite) {
   EXPECT_EQ(stream.size(), 50000u);
   fs::create_directories(tmp.path() / "streamed");
   fs::create_directories(tmp.path() / "whole");
-  stream.Write(tmp.path() / "streamed" / "dense.ply", tmp.path() / "streamed" / "dense.ply.vis");
+  std::move(stream).Write(tmp.path() / "streamed" / "dense.ply",
+                          tmp.path() / "streamed" / "dense.ply.vis");
   WritePly(tmp.path() / "whole" / "dense.ply", cloud);
   WritePointVisibility(tmp.path() / "whole" / "dense.ply.vis", visibility);
   for (const char* name : {"dense.ply", "dense.ply.vis"})
@@ -52,7 +53,7 @@ TEST(PointCloudStream, WritesWhatWritePlyAndWritePointVisibilityWrite) {
 TEST(PointCloudStream, AnEmptyStreamWritesAnEmptyCloud) {
   testing::TempDir tmp("point_cloud_stream_empty");
   PointCloudStream stream(tmp.path());
-  stream.Write(tmp.path() / "dense.ply", tmp.path() / "dense.ply.vis");
+  std::move(stream).Write(tmp.path() / "dense.ply", tmp.path() / "dense.ply.vis");
   EXPECT_TRUE(ReadPly(tmp.path() / "dense.ply").points.empty());
   EXPECT_TRUE(ReadPointVisibility(tmp.path() / "dense.ply.vis").empty());
 }

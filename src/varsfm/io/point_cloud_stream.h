@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,13 +29,14 @@ class PointCloudStream {
            const Eigen::Matrix<uint8_t, 3, 1>& color, const std::vector<image_t>& seen_by);
   size_t size() const { return count_; }
 
-  // Writes the points so far to `ply` and their visibility to `vis`, each atomically (a temporary
-  // beside it, then a rename). Throws varsfm::Error.
-  void Write(const std::filesystem::path& ply, const std::filesystem::path& vis);
+  // Writes the points to `ply` and their visibility to `vis`, each atomically (a temporary beside
+  // it, then a rename), and ends the stream: each scratch file is let go once copied, so the disk
+  // holds a file's bytes twice at most, not the whole cloud's. Throws varsfm::Error.
+  void Write(const std::filesystem::path& ply, const std::filesystem::path& vis) &&;
 
  private:
-  ScratchFile records_;
-  ScratchFile visibility_;
+  std::optional<ScratchFile> records_;
+  std::optional<ScratchFile> visibility_;
   size_t count_ = 0;
   std::vector<char> record_;  // one point's bytes, reused
 };

@@ -138,7 +138,7 @@ DensifySummary RunDensify(const DensifyOptions& options, OptionsCheck check) {
   RemoveOutputsAfter(options.output, ChainStage::kDensify);
   WriteOutputsTogether(options.output, ChainStage::kDensify, [&] {
     if (stream) {
-      stream->Write(options.output / "dense.ply", options.output / "dense.ply.vis");
+      std::move(*stream).Write(options.output / "dense.ply", options.output / "dense.ply.vis");
       return;
     }
     WritePly(options.output / "dense.ply", cloud);
