@@ -207,7 +207,10 @@ TEST(CorruptPly, NonFiniteListCountIsMalformedData) {
   std::string data;
   Put<float>(&data, std::numeric_limits<float>::quiet_NaN());
   std::istringstream in(data);
-  ply::Element face{"face", 1, {{"vertex_indices", "int", "float", 4}}};
+  ply::Element face{
+      "face",
+      1,
+      {{"vertex_indices", "int", "float", 4, ply::ScalarType::kInt32, ply::ScalarType::kFloat32}}};
   ply::ValueReader reader(in, /*binary=*/true);
   std::vector<double> scalars;
   std::vector<std::vector<double>> lists;

@@ -132,19 +132,27 @@ PlyPointReader::PlyPointReader(const fs::path& file) : file_(file), in_(file, st
   if (vertex.name != "vertex")
     Fail("{}: element {} before the vertices is not supported", file.string(), vertex.name);
   ply::RequireKnownTypes(vertex, file);
+  std::map<std::string, size_t> index;  // property name -> position in a vertex record
   for (size_t i = 0; i < vertex.properties.size(); ++i) {
     // A point cloud's only vertex list is its visibility; another is taken for a malformed file.
     if (vertex.properties[i].IsList() && vertex.properties[i].name != "visibility")
       Fail("{}: vertex property type list is not supported", file.string());
-    index_[vertex.properties[i].name] = i;
+    index[vertex.properties[i].name] = i;
   }
-  auto has = [&](std::initializer_list<const char*> names) {
-    return std::all_of(names.begin(), names.end(), [&](const char* n) { return index_.count(n); });
+  // Whether every name is a property, and then their positions.
+  auto find = [&](std::array<const char*, 3> names, std::array<size_t, 3>* positions) {
+    for (int k = 0; k < 3; ++k) {
+      const auto it = index.find(names[k]);
+      if (it == index.end()) return false;
+      (*positions)[k] = it->second;
+    }
+    return true;
   };
-  if (!has({"x", "y", "z"})) Fail("{}: vertices lack x y z", file.string());
-  normals_ = has({"nx", "ny", "nz"});
-  colors_ = has({"red", "green", "blue"});
-  visibility_ = has({"visibility"});
+  if (!find({"x", "y", "z"}, &position_)) Fail("{}: vertices lack x y z", file.string());
+  normals_ = find({"nx", "ny", "nz"}, &normal_);
+  colors_ = find({"red", "green", "blue"}, &color_);
+  visibility_ = index.count("visibility") > 0;
+  if (visibility_) visibility_list_ = index.at("visibility");
   for (const ply::Element& element : header_.elements)
     if (element.name == "viewpoint") {
       viewpoints_ = element.count;
@@ -160,26 +168,25 @@ void PlyPointReader::Next(PlyPoint* point) {
     if (header_.binary) Fail("{}: truncated at vertex {}", file_.string(), v);
     Fail("{}: bad or truncated ascii vertex {}", file_.string(), v);
   }
-  auto vec = [&](const char* a, const char* b, const char* c) {
-    return Eigen::Vector3d(values_[index_[a]], values_[index_[b]], values_[index_[c]]);
+  auto vec = [&](const std::array<size_t, 3>& at) {
+    return Eigen::Vector3d(values_[at[0]], values_[at[1]], values_[at[2]]);
   };
   // Refused here, where the file is known, rather than by every stage: a NaN or an infinity
   // crashes the Poisson octree and sends grids and the Delaunay surface's ray walks astray.
-  point->position = vec("x", "y", "z");
+  point->position = vec(position_);
   if (!point->position.allFinite())
     Fail("{} has non-finite coordinates (vertex {})", file_.string(), v);
   if (normals_) {
-    point->normal = vec("nx", "ny", "nz");
+    point->normal = vec(normal_);
     if (!point->normal.allFinite())
       Fail("{} has a non-finite normal (vertex {})", file_.string(), v);
   }
   if (colors_)
-    point->color = {ply::ColorByte(values_[index_["red"]]),
-                    ply::ColorByte(values_[index_["green"]]),
-                    ply::ColorByte(values_[index_["blue"]])};
+    point->color = {ply::ColorByte(values_[color_[0]]), ply::ColorByte(values_[color_[1]]),
+                    ply::ColorByte(values_[color_[2]])};
   point->visibility.clear();
   if (!visibility_) return;
-  for (double i : lists_[index_["visibility"]]) {
+  for (double i : lists_[visibility_list_]) {
     if (!(i >= 0 && i < 4294967296.0))
       Fail("{}: bad visibility index {} at vertex {}", file_.string(), i, v);
     point->visibility.push_back(static_cast<uint32_t>(i));

@@ -3,10 +3,10 @@
 // optional nx ny nz, red green blue (uchar) — the layout MeshLab, Open3D and CloudCompare read —
 // and optional visibility: a vertex list property `visibility` (uint indices) into a second
 // element `viewpoint` (double x y z, the camera centres), which viewers skip.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -80,7 +80,9 @@ class PlyPointReader {
   std::ifstream in_;
   ply::Header header_;
   std::optional<ply::ValueReader> reader_;
-  std::map<std::string, size_t> index_;  // property name -> position in a vertex record
+  // Positions in a vertex record, looked up once: by name per value, they were most of a read.
+  std::array<size_t, 3> position_{}, normal_{}, color_{};
+  size_t visibility_list_ = 0;
   bool normals_ = false, colors_ = false, visibility_ = false;
   size_t next_ = 0;
   size_t viewpoints_ = 0;  // records of the viewpoint element the header declares

@@ -13,16 +13,45 @@ namespace varsfm::ply {
 namespace {
 
 // `bytes` (little-endian, as PLY's binary format stores them) as a double.
-double Decode(const char* bytes, const std::string& type) {
+double Decode(const char* bytes, ScalarType type) {
   auto as = [&]<typename T>(T) { return static_cast<double>(GetLittleEndian<T>(bytes)); };
-  if (type == "char" || type == "int8") return as(int8_t{});
-  if (type == "uchar" || type == "uint8") return as(uint8_t{});
-  if (type == "short" || type == "int16") return as(int16_t{});
-  if (type == "ushort" || type == "uint16") return as(uint16_t{});
-  if (type == "int" || type == "int32") return as(int32_t{});
-  if (type == "uint" || type == "uint32") return as(uint32_t{});
-  if (type == "float" || type == "float32") return as(float{});
-  return as(double{});
+  switch (type) {
+    case ScalarType::kInt8:
+      return as(int8_t{});
+    case ScalarType::kUint8:
+      return as(uint8_t{});
+    case ScalarType::kInt16:
+      return as(int16_t{});
+    case ScalarType::kUint16:
+      return as(uint16_t{});
+    case ScalarType::kInt32:
+      return as(int32_t{});
+    case ScalarType::kUint32:
+      return as(uint32_t{});
+    case ScalarType::kFloat32:
+      return as(float{});
+    default:
+      return as(double{});
+  }
+}
+
+size_t SizeOf(ScalarType type) {
+  switch (type) {
+    case ScalarType::kInt8:
+    case ScalarType::kUint8:
+      return 1;
+    case ScalarType::kInt16:
+    case ScalarType::kUint16:
+      return 2;
+    case ScalarType::kInt32:
+    case ScalarType::kUint32:
+    case ScalarType::kFloat32:
+      return 4;
+    case ScalarType::kFloat64:
+      return 8;
+    default:
+      return 0;
+  }
 }
 
 // Throws unless every element's records fit in the bytes after the header (see ReadHeader).
@@ -56,14 +85,21 @@ uint8_t ColorByte(double value) {
   return value >= 255 ? uint8_t{255} : static_cast<uint8_t>(value);
 }
 
-size_t TypeSize(const std::string& type) {
-  static const std::map<std::string, size_t> sizes = {
-      {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
-      {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
-      {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
-  const auto it = sizes.find(type);
-  return it == sizes.end() ? 0 : it->second;
+ScalarType ScalarTypeOf(const std::string& name) {
+  static const std::map<std::string, ScalarType> types = {
+      {"char", ScalarType::kInt8},      {"int8", ScalarType::kInt8},
+      {"uchar", ScalarType::kUint8},    {"uint8", ScalarType::kUint8},
+      {"short", ScalarType::kInt16},    {"int16", ScalarType::kInt16},
+      {"ushort", ScalarType::kUint16},  {"uint16", ScalarType::kUint16},
+      {"int", ScalarType::kInt32},      {"int32", ScalarType::kInt32},
+      {"uint", ScalarType::kUint32},    {"uint32", ScalarType::kUint32},
+      {"float", ScalarType::kFloat32},  {"float32", ScalarType::kFloat32},
+      {"double", ScalarType::kFloat64}, {"float64", ScalarType::kFloat64}};
+  const auto it = types.find(name);
+  return it == types.end() ? ScalarType::kUnknown : it->second;
 }
+
+size_t TypeSize(const std::string& type) { return SizeOf(ScalarTypeOf(type)); }
 
 Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
   std::string line;
@@ -95,7 +131,9 @@ Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
       s >> p.type;
       if (p.type == "list") s >> p.count_type >> p.type;
       s >> p.name;
-      p.size = TypeSize(p.type);
+      p.scalar = ScalarTypeOf(p.type);
+      p.count_scalar = ScalarTypeOf(p.count_type);
+      p.size = SizeOf(p.scalar);
       header.elements.back().properties.push_back(p);
     }
   }
@@ -111,10 +149,10 @@ void RequireKnownTypes(const Element& element, const std::filesystem::path& file
   }
 }
 
-bool ValueReader::Read(const std::string& type, double* value) {
+bool ValueReader::Read(ScalarType type, double* value) {
   if (!binary_) return static_cast<bool>(in_ >> *value);
   char bytes[8];
-  if (!in_.read(bytes, static_cast<std::streamsize>(TypeSize(type)))) return false;
+  if (!in_.read(bytes, static_cast<std::streamsize>(SizeOf(type)))) return false;
   *value = Decode(bytes, type);
   return true;
 }
@@ -127,19 +165,19 @@ bool ReadRecord(ValueReader& reader, const Element& element, std::vector<double>
   for (size_t k = 0; k < n; ++k) {
     const Property& p = element.properties[k];
     if (!p.IsList()) {
-      if (!reader.Read(p.type, &(*scalars)[k])) return false;
+      if (!reader.Read(p.scalar, &(*scalars)[k])) return false;
       continue;
     }
     double count;
     // Negated so that NaN fails too; the bound keeps the conversion below defined.
-    if (!reader.Read(p.count_type, &count) || !(count >= 0 && count < 4294967296.0)) return false;
+    if (!reader.Read(p.count_scalar, &count) || !(count >= 0 && count < 4294967296.0)) return false;
     // Grown item by item rather than sized from `count`, so a corrupt count ends as truncated
     // data instead of a huge allocation.
     std::vector<double>& list = (*lists)[k];
     list.clear();
     for (size_t j = 0; j < static_cast<size_t>(count); ++j) {
       double item;
-      if (!reader.Read(p.type, &item)) return false;
+      if (!reader.Read(p.scalar, &item)) return false;
       list.push_back(item);
     }
   }

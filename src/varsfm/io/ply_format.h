@@ -11,12 +11,32 @@
 
 namespace varsfm::ply {
 
+// PLY's scalar types, by size and kind (each has two names: char / int8, ..., double / float64).
+enum class ScalarType : uint8_t {
+  kUnknown,
+  kInt8,
+  kUint8,
+  kInt16,
+  kUint16,
+  kInt32,
+  kUint32,
+  kFloat32,
+  kFloat64
+};
+
+// The type a name stands for; kUnknown for a name PLY does not define.
+ScalarType ScalarTypeOf(const std::string& name);
+
 // One property line: `property <type> <name>` or `property list <count_type> <type> <name>`.
 struct Property {
   std::string name;
   std::string type;        // scalar type, or the list's item type
   std::string count_type;  // non-empty for a list
   size_t size = 0;         // bytes of `type`; 0 for a type PLY does not define
+  // `type` and `count_type` decoded once, by ReadHeader, not per value read (a dense cloud has
+  // tens of millions of values).
+  ScalarType scalar = ScalarType::kUnknown;
+  ScalarType count_scalar = ScalarType::kUnknown;
 
   bool IsList() const { return !count_type.empty(); }
 };
@@ -55,7 +75,7 @@ class ValueReader {
  public:
   ValueReader(std::istream& in, bool binary) : in_(in), binary_(binary) {}
   // False when the data ends early or an ascii number is malformed; the caller names the place.
-  bool Read(const std::string& type, double* value);
+  bool Read(ScalarType type, double* value);
 
  private:
   std::istream& in_;
