@@ -76,6 +76,9 @@ class ValueReader {
   ValueReader(std::istream& in, bool binary) : in_(in), binary_(binary) {}
   // False when the data ends early or an ascii number is malformed; the caller names the place.
   bool Read(ScalarType type, double* value);
+  // `size` bytes of binary data into `bytes`; false where the data ends early.
+  bool ReadBytes(char* bytes, size_t size);
+  bool binary() const { return binary_; }
 
  private:
   std::istream& in_;

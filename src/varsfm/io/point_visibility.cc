@@ -49,8 +49,13 @@ void PointVisibilityReader::Next(std::vector<image_t>* ids) {
   const uint32_t count = Get<uint32_t>(in_, file_);
   if (count > bytes_ / sizeof(uint32_t))
     Fail("{}: a point seen by {} images does not fit in {} bytes", file_.string(), count, bytes_);
+  // The ids in one read: one by one through the stream they were most of the reading.
+  bytes_read_.resize(size_t{count} * sizeof(uint32_t));
+  if (!in_.read(bytes_read_.data(), static_cast<std::streamsize>(bytes_read_.size())))
+    Fail("{}: truncated", file_.string());
   ids->resize(count);
-  for (image_t& id : *ids) id = Get<uint32_t>(in_, file_);
+  for (uint32_t j = 0; j < count; ++j)
+    (*ids)[j] = GetLittleEndian<uint32_t>(bytes_read_.data() + j * sizeof(uint32_t));
 }
 
 void PointVisibilityReader::ExpectEnd() {

@@ -38,6 +38,7 @@ class PointVisibilityReader {
   uintmax_t bytes_ = 0;
   size_t count_ = 0;
   size_t next_ = 0;
+  std::vector<char> bytes_read_;  // one point's ids as stored
 };
 
 }  // namespace varsfm
