@@ -35,23 +35,10 @@ double Decode(const char* bytes, ScalarType type) {
   }
 }
 
+// Bytes of each ScalarType, in the enum's order (kUnknown: 0).
 size_t SizeOf(ScalarType type) {
-  switch (type) {
-    case ScalarType::kInt8:
-    case ScalarType::kUint8:
-      return 1;
-    case ScalarType::kInt16:
-    case ScalarType::kUint16:
-      return 2;
-    case ScalarType::kInt32:
-    case ScalarType::kUint32:
-    case ScalarType::kFloat32:
-      return 4;
-    case ScalarType::kFloat64:
-      return 8;
-    default:
-      return 0;
-  }
+  static constexpr size_t kBytes[] = {0, 1, 1, 2, 2, 4, 4, 4, 8};
+  return kBytes[static_cast<size_t>(type)];
 }
 
 // The bytes of a record of `element` when all its properties are scalars of known types; 0
@@ -99,7 +86,7 @@ void RequireCountsFit(const Header& header, std::istream& in, const std::filesys
     uint64_t record = 0;
     for (const Property& p : e.properties)
       record +=
-          header.binary ? std::max<size_t>(TypeSize(p.IsList() ? p.count_type : p.type), 1) : 1;
+          header.binary ? std::max<size_t>(SizeOf(p.IsList() ? p.count_scalar : p.scalar), 1) : 1;
     if (e.count > 0 && record == 0)
       Fail("{}: PLY element {} has {} records but no properties", file.string(), e.name, e.count);
     if (record > 0 && e.count > left / record)
@@ -129,8 +116,6 @@ ScalarType ScalarTypeOf(const std::string& name) {
   const auto it = types.find(name);
   return it == types.end() ? ScalarType::kUnknown : it->second;
 }
-
-size_t TypeSize(const std::string& type) { return SizeOf(ScalarTypeOf(type)); }
 
 Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
   std::string line;
@@ -173,7 +158,7 @@ Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
 
 void RequireKnownTypes(const Element& element, const std::filesystem::path& file) {
   for (const Property& p : element.properties) {
-    if (p.IsList() && TypeSize(p.count_type) == 0)
+    if (p.IsList() && p.count_scalar == ScalarType::kUnknown)
       Fail("{}: {} list count type {} is not supported", file.string(), element.name, p.count_type);
     if (p.size == 0)
       Fail("{}: {} property type {} is not supported", file.string(), element.name, p.type);

@@ -52,9 +52,6 @@ struct Header {
   std::vector<Element> elements;
 };
 
-// Bytes of a PLY scalar type, 0 for an unknown one.
-size_t TypeSize(const std::string& type);
-
 // Reads up to and including end_header. Throws varsfm::Error naming `file` for a file that is not
 // PLY, an unsupported format, a missing end_header, or element counts the data after the header
 // cannot hold (each record takes at least a byte per property; a record of no properties takes
