@@ -140,6 +140,12 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
             "propagation filled by PatchMatch, or both");
   AddWithDefault(cmd, "--dense-max-image-size", dense->mvs.max_image_size,
                  "PatchMatch depth map size (longer side, px)");
+  AddWithDefault(cmd, "--dense-redundant-fraction", dense->mvs.references.redundant_fraction,
+                 "a view gets no depth map (it stays a source and texture view) when this share "
+                 "of its sparse points is seen by --dense-redundant-other-views other depth-map "
+                 "views each (0 to 1; 0: every view gets one)");
+  AddWithDefault(cmd, "--dense-redundant-other-views", dense->mvs.references.min_other_views,
+                 "see --dense-redundant-fraction (2 to 1000)");
   AddWithDefault(cmd, "--dense-source-views", dense->mvs.sources.num_source_views,
                  "PatchMatch source views per depth map (1 to 16)");
   AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,

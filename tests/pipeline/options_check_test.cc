@@ -106,6 +106,12 @@ TEST(OptionsCheck, Densify) {
        {"max_epipolar_distance", [](auto& o) { o.dense.propagation.max_epipolar_distance = kInf; }},
        // PatchMatch's options (DenseReconstructionOptions::mvs), each algorithm's in turn.
        {"--dense-max-image-size", [](auto& o) { o.dense.mvs.max_image_size = 8; }},
+       {"--dense-redundant-fraction",
+        [](auto& o) { o.dense.mvs.references.redundant_fraction = kNan; }},
+       {"--dense-redundant-fraction",
+        [](auto& o) { o.dense.mvs.references.redundant_fraction = 1.5; }},
+       {"--dense-redundant-other-views",
+        [](auto& o) { o.dense.mvs.references.min_other_views = 1; }},
        {"--dense-source-views", [](auto& o) { o.dense.mvs.sources.num_source_views = 0; }},
        {"--dense-redundant-weight",
         [](auto& o) { o.dense.mvs.sources.redundant_point_weight = 1.5; }},

@@ -149,6 +149,30 @@ size_t CountDepths(const std::vector<FusionView>& views) {
   return n;
 }
 
+// The views that get a depth map: those with sources and a depth range (in `ranges`), less the
+// redundant ones (reference_views.h). Throws varsfm::Error when no view has sources.
+std::vector<image_t> ReferenceViews(const Reconstruction& rec,
+                                    const std::map<image_t, std::vector<image_t>>& sources,
+                                    const MultiViewStereoOptions& options,
+                                    std::map<image_t, DepthRange>* ranges,
+                                    MultiViewStereoStats* stats) {
+  std::vector<image_t> candidates;
+  for (const auto& [id, list] : sources) {
+    const DepthRange range = SparseDepthRange(rec, id, options.sources.depth_range_percentile);
+    if (range.max_depth > range.min_depth && range.min_depth > 0)
+      candidates.push_back(id), (*ranges)[id] = range;
+  }
+  if (candidates.empty())
+    Fail("densify: no registered view shares {} points with another (multi-view stereo)",
+         options.sources.min_shared_points);
+  std::vector<image_t> references = SelectReferenceViews(rec, candidates, options.references);
+  stats->num_redundant_views = candidates.size() - references.size();
+  if (stats->num_redundant_views > 0)
+    info("multi-view stereo: {} of {} views are redundant with the others: depth maps for {}",
+         stats->num_redundant_views, candidates.size(), references.size());
+  return references;
+}
+
 }  // namespace
 
 void MultiViewStereoInto(const Reconstruction& rec,
@@ -159,16 +183,8 @@ void MultiViewStereoInto(const Reconstruction& rec,
   MultiViewStereoStats& st = stats ? *stats : local;
   st = {};
   const auto sources = SelectSourceViews(rec, options.sources);
-  std::vector<image_t> references;
   std::map<image_t, DepthRange> ranges;
-  for (const auto& [id, list] : sources) {
-    const DepthRange range = SparseDepthRange(rec, id, options.sources.depth_range_percentile);
-    if (range.max_depth > range.min_depth && range.min_depth > 0)
-      references.push_back(id), ranges[id] = range;
-  }
-  if (references.empty())
-    Fail("densify: no registered view shares {} points with another (multi-view stereo)",
-         options.sources.min_shared_points);
+  const std::vector<image_t> references = ReferenceViews(rec, sources, options, &ranges, &st);
   std::set<image_t> used(references.begin(), references.end());
   for (image_t id : references) used.insert(sources.at(id).begin(), sources.at(id).end());
   const std::vector<image_t> ids(used.begin(), used.end());
@@ -311,6 +327,7 @@ PointCloud MultiViewStereo(const Reconstruction& rec,
 
 void MultiViewStereoOptions::Check() const {
   CheckAtLeast("--dense-max-image-size", max_image_size, 16);
+  references.Check();
   sources.Check();
   patchmatch.Check();
   planar.Check();

@@ -1,9 +1,9 @@
 #pragma once
 // Multi-view stereo by depth maps: every registered view that has source views (source_views.h)
-// gets a PatchMatch depth and normal map (patchmatch.h) at a capped resolution, started from the
-// sparse points it observes and, optionally, a prior point cloud (match propagation's); the maps
-// are filtered by geometric consistency and fused into a point cloud with normals and visibility
-// (depth_fusion.h).
+// and is not redundant with the others (reference_views.h) gets a PatchMatch depth and normal map
+// (patchmatch.h) at a capped resolution, started from the sparse points it observes and,
+// optionally, a prior point cloud (match propagation's); the maps are filtered by geometric
+// consistency and fused into a point cloud with normals and visibility (depth_fusion.h).
 #include <filesystem>
 #include <functional>
 
@@ -13,6 +13,7 @@
 #include "varsfm/dense/depth_fusion.h"
 #include "varsfm/dense/patchmatch.h"
 #include "varsfm/dense/planar_prior.h"
+#include "varsfm/dense/reference_views.h"
 #include "varsfm/dense/source_views.h"
 #include "varsfm/scene/point_cloud.h"
 #include "varsfm/scene/reconstruction.h"
@@ -27,6 +28,7 @@ struct MultiViewStereoOptions {
 
   // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
   int max_image_size = 800;
+  ReferenceViewOptions references;  // which views get a depth map
   SourceViewOptions sources;
   PatchMatchOptions patchmatch;
   // A last pass with the planar prior of each view's confident, consistent depths (0 iterations:
@@ -48,6 +50,7 @@ struct MultiViewStereoOptions {
 
 struct MultiViewStereoStats {
   size_t num_views = 0;              // reference views with a depth map
+  size_t num_redundant_views = 0;    // views left without one as redundant (reference_views.h)
   size_t num_depths = 0;             // pixels with a photometrically valid depth, all views
   size_t num_beside_background = 0;  // of which dropped beside the open background
   size_t num_consistent = 0;         // of which geometrically consistent

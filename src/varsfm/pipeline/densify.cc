@@ -40,6 +40,7 @@ void WriteSummary(const std::filesystem::path& file, const DensifySummary& r, ui
       {"method", NameOf(kDenseMethodNames, r.method)},
       {"seed", seed},
       {"depth_maps", st.mvs.num_views},
+      {"redundant_views", st.mvs.num_redundant_views},
       {"depths", st.mvs.num_depths},
       {"depths_beside_open_background", st.mvs.num_beside_background},
       {"consistent_depths", st.mvs.num_consistent},
