@@ -41,12 +41,16 @@ std::vector<image_t> Range(image_t first, image_t last) {
   return ids;
 }
 
+// `num_images` images, of which 1..12 see the same 50 points and the others none.
+Reconstruction TwelveViewsOfOneSurface(int num_images = 12) {
+  return ModelWithTracks(num_images, std::vector<std::vector<image_t>>(50, Range(1, 12)));
+}
+
 TEST(SelectReferenceViews, ViewsThatSeeTheSameSurfaceAreDroppedUntilEachPointKeepsEnough) {
   // Twelve views of the same 50 points. The means tie, so the views are judged by id: 1 to 7
   // each still leave every point five other views and are dropped; then a point has five views
   // left, and each of those would leave it only four. Each point keeps min_other_views views.
-  const Reconstruction rec =
-      ModelWithTracks(12, std::vector<std::vector<image_t>>(50, Range(1, 12)));
+  const Reconstruction rec = TwelveViewsOfOneSurface();
   ReferenceViewOptions options;
   options.min_other_views = 5;
   EXPECT_EQ(SelectReferenceViews(rec, Range(1, 12), options), Range(8, 12));
@@ -82,26 +86,23 @@ TEST(SelectReferenceViews, AViewIsRedundantOnlyWhenEnoughOfItsPointsAreSeenElsew
 }
 
 TEST(SelectReferenceViews, OnlyTheCandidatesCountAndTheirOrderIsKept) {
-  // Twelve views see the points, but only the candidates count as depth-map views: with six of
-  // them, dropping one would leave the points four others.
-  const Reconstruction rec =
-      ModelWithTracks(12, std::vector<std::vector<image_t>>(50, Range(1, 12)));
+  // Twelve views see the points, but only the candidates count as depth-map views: of six, one
+  // can go; a second would leave the points four others.
+  const Reconstruction rec = TwelveViewsOfOneSurface();
   const std::vector<image_t> candidates = {12, 3, 7, 5, 1, 9};
   EXPECT_EQ(SelectReferenceViews(rec, candidates, ReferenceViewOptions{}),
             (std::vector<image_t>{12, 3, 7, 5, 9}));  // 1, judged first, goes
 }
 
 TEST(SelectReferenceViews, NoneIsRedundantAtFractionZero) {
-  const Reconstruction rec =
-      ModelWithTracks(12, std::vector<std::vector<image_t>>(50, Range(1, 12)));
+  const Reconstruction rec = TwelveViewsOfOneSurface();
   ReferenceViewOptions options;
   options.redundant_fraction = 0;
   EXPECT_EQ(SelectReferenceViews(rec, Range(1, 12), options), Range(1, 12));
 }
 
 TEST(SelectReferenceViews, AViewWithoutSparsePointsIsKept) {
-  const Reconstruction rec =
-      ModelWithTracks(13, std::vector<std::vector<image_t>>(50, Range(1, 12)));
+  const Reconstruction rec = TwelveViewsOfOneSurface(13);
   const std::vector<image_t> kept = SelectReferenceViews(rec, Range(1, 13), ReferenceViewOptions{});
   EXPECT_EQ(kept.back(), 13u);
   EXPECT_EQ(kept.size(), 6u);

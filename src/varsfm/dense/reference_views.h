@@ -1,9 +1,9 @@
 #pragma once
 // Which views get a depth map. On a large collection many photos see the same surface from
 // nearly the same place: their depth maps repeat one another, and PatchMatch and fusion cost
-// time in proportion to the depth maps. In the spirit of the view clustering of Furukawa et al.
-// ("Towards Internet-scale multi-view stereo", CVPR 2010, section 3: drop images whose
-// contribution the others cover, keep every sparse point covered), a view is redundant when
+// time in proportion to the depth maps. In the spirit of the image selection of Furukawa et al.
+// ("Towards Internet-scale multi-view stereo", CVPR 2010: images whose points the others cover
+// are removed, so long as the sparse points stay covered), a view is redundant when
 // most of the sparse points it sees are each seen by enough other depth-map views; it stays a
 // source view of the others (source_views.h) and a texture view of the model. On a few photos
 // per surface -- the tracks of a small set -- no view is redundant, and every view gets its
