@@ -2,7 +2,7 @@
 // get no depth map, and the cloud still covers what every depth map would have covered.
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <unordered_set>
 #include <vector>
