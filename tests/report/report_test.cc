@@ -393,6 +393,30 @@ TEST(Report, HeldOutRendersAreShownWhenTheRunScoredThem) {
   EXPECT_NE(html.find("<td>b.png</td><td>source</td><td>30.50</td>"), std::string::npos);
 }
 
+// The dense cloud's card says how many views had a depth map and how many were redundant, where
+// dense_summary.json records them, and names the file alone where it does not.
+TEST(Report, DenseCardSaysHowManyViewsHadADepthMap) {
+  TempDir tmp("report_dense");
+  WriteSyntheticOutput(tmp.path(), {.with_glb = false});
+  std::ofstream(tmp.path() / "dense.ply")
+      << "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+         "property float z\nend_header\n0 0 0\n1 1 1\n";
+  const auto dense_card = [&] {
+    const std::string html = ReadText(WriteReport({.output = tmp.path()}).file);
+    const size_t at = html.find("Dense points");
+    return at == std::string::npos ? std::string() : html.substr(at, 200);
+  };
+  EXPECT_NE(dense_card().find("dense.ply</div>"), std::string::npos);
+  std::ofstream(tmp.path() / "dense_summary.json")
+      << R"({"depth_maps": 435, "redundant_views": 565})";
+  EXPECT_NE(dense_card().find("dense.ply, 435 depth maps (565 views redundant)"),
+            std::string::npos);
+  std::ofstream(tmp.path() / "dense_summary.json") << R"({"depth_maps": 11, "redundant_views": 0})";
+  EXPECT_NE(dense_card().find("dense.ply, 11 depth maps</div>"), std::string::npos);
+  std::ofstream(tmp.path() / "dense_summary.json") << "not json";
+  EXPECT_NE(dense_card().find("dense.ply</div>"), std::string::npos);
+}
+
 TEST(Report, OptionsAreChecked) {
   EXPECT_THROW(ReportOptions{}.Check(), OptionError);
   ReportOptions options{.output = "x"};

@@ -254,6 +254,11 @@ ReportData CollectReportData(const fs::path& output, const ReportDataOptions& op
 
   const auto dense = PlyElementCounts(output / "dense.ply");
   if (dense.count("vertex")) data.dense_points = dense.at("vertex");
+  try {
+    data.dense_summary = ReadSummary(output / "dense_summary.json");
+  } catch (const Error& e) {
+    warn("report: {}; the dense stage's figures are left out", e.what());
+  }
   const auto mesh = PlyElementCounts(output / "mesh.ply");
   if (mesh.count("vertex")) data.mesh_vertices = mesh.at("vertex");
   if (mesh.count("face")) data.mesh_faces = mesh.at("face");

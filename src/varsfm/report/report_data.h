@@ -60,6 +60,8 @@ struct ReportData {
   std::vector<std::array<uint8_t, 3>> view_colors;
   // Later stages, when their outputs exist.
   std::optional<size_t> dense_points;
+  nlohmann::json dense_summary =
+      nlohmann::json::object();  // OUT/dense_summary.json, {} when absent
   std::optional<size_t> mesh_vertices;
   std::optional<size_t> mesh_faces;
   // OUT/model.glb made compact for display (display_model.h); empty when absent.

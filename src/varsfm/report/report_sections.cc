@@ -26,6 +26,22 @@ std::string Card(const std::string& label, const std::string& value, const std::
       label, value, note.empty() ? "" : "<div class=\"note\">" + note + "</div>");
 }
 
+// The dense cloud's file, and how many views had a depth map and how many were redundant
+// (dense_summary.json), where the run recorded them.
+std::string DenseNote(const ReportData& data) {
+  const auto count = [&](const char* key) -> size_t {
+    const nlohmann::json& d = data.dense_summary;
+    return d.contains(key) && d[key].is_number_unsigned() ? d[key].get<size_t>() : 0;
+  };
+  std::string note = "dense.ply";
+  if (const size_t maps = count("depth_maps"); maps > 0) {
+    note += ", " + Count(maps) + " depth maps";
+    if (const size_t redundant = count("redundant_views"); redundant > 0)
+      note += " (" + Count(redundant) + " views redundant)";
+  }
+  return note;
+}
+
 std::string ImageName(const ReportData& data, image_t id) {
   const ReportImage* image = data.FindImage(id);
   return image != nullptr ? EscapeHtml(image->name) : fmt::format("image {}", id);
@@ -102,7 +118,7 @@ std::string SummarySection(const ReportData& data, const ReportCharts& charts) {
   html += Card("RMS reprojection error", fmt::format("{:.3f} px", Rms(data.observation_errors_px)));
   html += Card("Mean track length", fmt::format("{:.2f}", mean_track), "images per point");
   html += InitialPairCard(data);
-  if (data.dense_points) html += Card("Dense points", Count(*data.dense_points), "dense.ply");
+  if (data.dense_points) html += Card("Dense points", Count(*data.dense_points), DenseNote(data));
   if (data.mesh_faces)
     html += Card("Mesh", Count(*data.mesh_faces) + " faces",
                  Count(data.mesh_vertices.value_or(0)) + " vertices, mesh.ply");
