@@ -210,7 +210,7 @@ TEST(CorruptPly, NonFiniteListCountIsMalformedData) {
   ply::Element face{
       "face",
       1,
-      {{"vertex_indices", "int", "float", 4, ply::ScalarType::kInt32, ply::ScalarType::kFloat32}}};
+      {{"vertex_indices", "int", "float", ply::ScalarType::kInt32, ply::ScalarType::kFloat32}}};
   ply::ValueReader reader(in, /*binary=*/true);
   std::vector<double> scalars;
   std::vector<std::vector<double>> lists;

@@ -46,8 +46,8 @@ size_t SizeOf(ScalarType type) {
 size_t FixedRecordSize(const Element& element) {
   size_t bytes = 0;
   for (const Property& p : element.properties) {
-    if (p.IsList() || p.size == 0) return 0;
-    bytes += p.size;
+    if (p.IsList() || p.scalar == ScalarType::kUnknown) return 0;
+    bytes += SizeOf(p.scalar);
   }
   return bytes;
 }
@@ -67,7 +67,7 @@ bool ReadFixedRecord(ValueReader& reader, const Element& element, size_t size,
   for (size_t k = 0; k < element.properties.size(); ++k) {
     const Property& p = element.properties[k];
     (*scalars)[k] = Decode(bytes + at, p.scalar);
-    at += p.size;
+    at += SizeOf(p.scalar);
   }
   return true;
 }
@@ -149,7 +149,6 @@ Header ReadHeader(std::istream& in, const std::filesystem::path& file) {
       s >> p.name;
       p.scalar = ScalarTypeOf(p.type);
       p.count_scalar = ScalarTypeOf(p.count_type);
-      p.size = SizeOf(p.scalar);
       header.elements.back().properties.push_back(p);
     }
   }
@@ -160,7 +159,7 @@ void RequireKnownTypes(const Element& element, const std::filesystem::path& file
   for (const Property& p : element.properties) {
     if (p.IsList() && p.count_scalar == ScalarType::kUnknown)
       Fail("{}: {} list count type {} is not supported", file.string(), element.name, p.count_type);
-    if (p.size == 0)
+    if (p.scalar == ScalarType::kUnknown)
       Fail("{}: {} property type {} is not supported", file.string(), element.name, p.type);
   }
 }

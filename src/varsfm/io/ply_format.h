@@ -32,7 +32,6 @@ struct Property {
   std::string name;
   std::string type;        // scalar type, or the list's item type
   std::string count_type;  // non-empty for a list
-  size_t size = 0;         // bytes of `type`; 0 for a type PLY does not define
   // `type` and `count_type` decoded once, by ReadHeader, not per value read (a dense cloud has
   // tens of millions of values).
   ScalarType scalar = ScalarType::kUnknown;
