@@ -62,7 +62,11 @@ TEST(MapperOptions, RegistrationRefusesBadValues) {
        {"registration.dlt_max_aspect", [](O& o) { o.dlt_max_aspect = 0.5; }},
        {"registration.dlt_max_skew_fraction", [](O& o) { o.dlt_max_skew_fraction = 0; }},
        {"registration.dlt_max_principal_point_offset",
-        [](O& o) { o.dlt_max_principal_point_offset = -0.3; }}},
+        [](O& o) { o.dlt_max_principal_point_offset = -0.3; }},
+       {"registration.free_principal_point_max_cost_ratio",
+        [](O& o) { o.free_principal_point_max_cost_ratio = 1.5; }},
+       {"registration.free_principal_point_min_offset",
+        [](O& o) { o.free_principal_point_min_offset = -0.1; }}},
       [](IncrementalMapperOptions& m) -> O& { return m.registration; });
 }
 

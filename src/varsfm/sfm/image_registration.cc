@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "varsfm/estimators/absolute_pose_estimator.h"
 #include "varsfm/estimators/projection_estimator.h"
@@ -34,6 +35,9 @@ void ImageRegistrationOptions::Check() const {
   CheckGreaterThan("registration.dlt_max_aspect", dlt_max_aspect, dlt_min_aspect);
   CheckPositive("registration.dlt_max_skew_fraction", dlt_max_skew_fraction);
   CheckPositive("registration.dlt_max_principal_point_offset", dlt_max_principal_point_offset);
+  CheckFraction("registration.free_principal_point_max_cost_ratio",
+                free_principal_point_max_cost_ratio);
+  CheckNonNegative("registration.free_principal_point_min_offset", free_principal_point_min_offset);
 }
 
 std::vector<Correspondence2D3D> FindCorrespondences2D3D(const CorrespondenceGraph& graph,
@@ -56,9 +60,10 @@ std::vector<Correspondence2D3D> FindCorrespondences2D3D(const CorrespondenceGrap
 
 namespace {
 
-// Whether a K from the DLT decomposition is physically plausible for this image.
+// Whether a K from the DLT decomposition is physically plausible for this image, its principal
+// point within `max_principal_point_offset` x the larger side of the centre.
 bool PlausibleCalibration(const ImageRegistrationOptions& o, const Eigen::Matrix3d& K,
-                          const Camera& camera) {
+                          const Camera& camera, double max_principal_point_offset) {
   const double size = std::max(camera.width, camera.height);
   const double f = K(0, 0);
   const double aspect = K(1, 1) / K(0, 0);
@@ -67,24 +72,29 @@ bool PlausibleCalibration(const ImageRegistrationOptions& o, const Eigen::Matrix
   return f > o.dlt_min_focal_factor * size && f < o.dlt_max_focal_factor * size &&
          aspect > o.dlt_min_aspect && aspect < o.dlt_max_aspect &&
          std::abs(K(0, 1)) < o.dlt_max_skew_fraction * f &&
-         (pp - centre).norm() < o.dlt_max_principal_point_offset * size;
-}
-
-// Inlier count of a pose+camera on the 2D-3D correspondences.
-size_t CountInliers(const Camera& camera, const Rigid3d& pose,
-                    const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Vector3d>& X,
-                    double max_error) {
-  size_t n = 0;
-  for (size_t i = 0; i < x.size(); ++i)
-    if (ReprojectionError(camera, pose, x[i], X[i]) <= max_error) ++n;
-  return n;
+         (pp - centre).norm() < max_principal_point_offset * size;
 }
 
 struct Hypothesis {
   Camera camera;
   Rigid3d pose;
   size_t inliers = 0;
+  // Sum over the correspondences of the squared reprojection error, capped at the inlier
+  // threshold's square (MSAC's score, Torr & Zisserman 2000).
+  double truncated_cost = 0;
 };
+
+// Scores `h` on the correspondences: its inliers and truncated cost.
+void Score(const std::vector<Eigen::Vector2d>& x, const std::vector<Eigen::Vector3d>& X,
+           double max_error, Hypothesis* h) {
+  h->inliers = 0;
+  h->truncated_cost = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double e = ReprojectionError(h->camera, h->pose, x[i], X[i]);
+    if (e <= max_error) ++h->inliers;
+    h->truncated_cost += std::min(e, max_error) * std::min(e, max_error);
+  }
+}
 
 // What the hypotheses of one image are made from and refined with.
 struct RegistrationProblem {
@@ -100,6 +110,8 @@ struct RegistrationProblem {
   Camera start_camera;
   bool camera_registered;  // a registered image uses the camera: its intrinsics are held
   AbsolutePoseRefinementOptions refine;
+  // The refinement frees the principal point, which the policy holds (FreePrincipalPoint).
+  bool free_principal_point = false;
 };
 
 // Refines `h` on the correspondences near it and scores it on all; appends it when refined.
@@ -115,22 +127,40 @@ void RefineAndScore(const RegistrationProblem& p, Hypothesis h, std::vector<Hypo
   // Six points: the most parameters the refinement frees (pose and up to five intrinsics) need
   // at least as many equations.
   if (xi.size() < 6 || !RefineAbsolutePose(p.refine, xi, Xi, &h.camera, &h.pose)) return;
-  h.inliers = CountInliers(h.camera, h.pose, p.x, p.X, p.options.max_error_px);
+  Score(p.x, p.X, p.options.max_error_px, &h);
   out->push_back(h);
 }
 
-// (a) The paper: RANSAC + DLT projection matrix, decomposed into K, R, t (section 4.3).
-void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out) {
+// The paper's projection matrix (section 4.3): RANSAC + DLT, decomposed into K, R, t.
+struct DltEstimate {
+  Eigen::Matrix3d K;
+  Rigid3d pose;
+};
+
+std::optional<DltEstimate> EstimateDlt(const RegistrationProblem& p) {
   RansacOptions ransac;
   ransac.max_error = p.options.max_error_px;
   ransac.seed = DeriveSeed(p.seed, p.image_id);
   const auto p_report = EstimateProjectionMatrix(p.x, p.X, ransac);
-  if (!p_report.success) return;
+  if (!p_report.success) return std::nullopt;
   Eigen::Matrix3d K, R;
   Eigen::Vector3d t;
-  if (!DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) return;
-  Hypothesis h{p.start_camera, Rigid3d(R, t), 0};
-  if (!p.camera_registered && PlausibleCalibration(p.options, K, p.camera)) {
+  if (!DecomposeProjectionMatrix(p_report.model, &K, &R, &t)) return std::nullopt;
+  return DltEstimate{K, Rigid3d(R, t)};
+}
+
+// (a) The DLT's pose, its K starting the refinement where it is plausible for the image. With
+// p.free_principal_point, K's principal point may lie anywhere within the circle through the
+// image's corners.
+void AddDltHypothesis(const RegistrationProblem& p, const DltEstimate& dlt,
+                      std::vector<Hypothesis>* out) {
+  const Eigen::Matrix3d& K = dlt.K;
+  const double max_pp_offset = p.free_principal_point
+                                   ? 0.5 * std::hypot(p.camera.width, p.camera.height) /
+                                         std::max(p.camera.width, p.camera.height)
+                                   : p.options.dlt_max_principal_point_offset;
+  Hypothesis h{p.start_camera, dlt.pose, 0};
+  if (!p.camera_registered && PlausibleCalibration(p.options, K, p.camera, max_pp_offset)) {
     // Keep the held parameters at their initial values (policy), take the rest from K.
     Camera from_dlt = p.camera;
     from_dlt.params[Camera::kK1] = p.start_camera.params[Camera::kK1];
@@ -141,7 +171,7 @@ void AddDltHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
     // Parameters shared per image size start from the group's current values (the neighbour's
     // when it has this size; StartingCamera keeps the image's own otherwise).
     for (const int i : p.intrinsics.SharedPerSize()) from_dlt.params[i] = p.start_camera.params[i];
-    if (p.intrinsics.refine_principal_point) {
+    if (p.intrinsics.refine_principal_point || p.free_principal_point) {
       from_dlt.params[Camera::kU0] = K(0, 2);
       from_dlt.params[Camera::kV0] = K(1, 2);
     }
@@ -170,24 +200,74 @@ void AddPnpHypothesis(const RegistrationProblem& p, std::vector<Hypothesis>* out
 }
 
 // The intrinsics a new image's hypotheses start from: its registered neighbour's when the two
-// images have the same size. Another size (another phone, a resized copy) keeps the image's own
-// principal point, aspect and skew, and takes the neighbour's focal length scaled by the ratio
-// of the larger sides (the same field of view) and its k1, k2 (on normalised coordinates, so
-// independent of the resolution). A principal point taken from a photo of another size would lie
-// off this one's centre by the difference of the two, and a size with fewer images than the
-// adjustments' min_images_to_share would keep it.
-Camera StartingCamera(const Camera& camera, const Camera& neighbour) {
+// images have the same size. Another size (another phone, a resized copy) takes the neighbour's
+// focal length scaled by the ratio of the larger sides (the same field of view) and its k1, k2
+// (on normalised coordinates, so independent of the resolution), and the principal point, aspect
+// and skew of `same_size`, a registered camera of the image's size, or else keeps its own. A
+// principal point taken from a photo of another size would lie off this one's centre by the
+// difference of the two, and a size with fewer images than the adjustments' min_images_to_share
+// would keep it.
+Camera StartingCamera(const Camera& camera, const Camera& neighbour, const Camera* same_size) {
   if (neighbour.width == camera.width && neighbour.height == camera.height) {
     Camera start = neighbour;
     start.camera_id = camera.camera_id;
     return start;
   }
   Camera start = camera;
+  if (same_size)
+    for (const int i : {Camera::kU0, Camera::kV0, Camera::kAspect, Camera::kSkew})
+      start.params[i] = same_size->params[i];
   start.focal() = neighbour.focal() * std::max(camera.width, camera.height) /
                   std::max(neighbour.width, neighbour.height);
   start.params[Camera::kK1] = neighbour.params[Camera::kK1];
   start.params[Camera::kK2] = neighbour.params[Camera::kK2];
   return start;
+}
+
+// The camera of the most recently registered image with `camera`'s size (null: none).
+const Camera* SameSizeCamera(const Reconstruction& rec, const Camera& camera,
+                             const std::vector<image_t>& registration_order) {
+  for (auto it = registration_order.rbegin(); it != registration_order.rend(); ++it) {
+    const Camera& other = rec.CameraOf(*it);
+    if (other.width == camera.width && other.height == camera.height) return &other;
+  }
+  return nullptr;
+}
+
+// The first image of its size (a cropped photo, another phone) has no registered principal point
+// to start from, and the policy holds it at the centre. The DLT's and the chosen hypothesis are
+// refined once more with the principal point free; the one of lower truncated cost replaces the
+// chosen one when its cost is at most options.free_principal_point_max_cost_ratio of it and its
+// principal point lies at least options.free_principal_point_min_offset x the larger side from
+// the centre. A photo cut off-centre fits with a centred principal point only through a wrong
+// focal length and rotation, at several times its noise. Nearer the centre the adjustments cope
+// with a centred start, and two more parameters also absorb the errors of a young model's
+// structure (a few pixels off the centre on a degenerate initial pair).
+void FreePrincipalPoint(const RegistrationProblem& p, const std::optional<DltEstimate>& dlt,
+                        Hypothesis* chosen) {
+  RegistrationProblem free = p;
+  free.free_principal_point = true;
+  free.refine.intrinsics.refine_principal_point = true;
+  std::vector<Hypothesis> freed;
+  if (dlt) AddDltHypothesis(free, *dlt, &freed);
+  RefineAndScore(free, *chosen, &freed);
+  if (freed.empty()) return;
+  const Hypothesis& best = *std::min_element(
+      freed.begin(), freed.end(),
+      [](const Hypothesis& a, const Hypothesis& b) { return a.truncated_cost < b.truncated_cost; });
+  const Camera& c = best.camera;
+  const double offset =
+      Eigen::Vector2d(c.params[Camera::kU0] - 0.5 * c.width, c.params[Camera::kV0] - 0.5 * c.height)
+          .norm() /
+      std::max(c.width, c.height);
+  if (best.truncated_cost >
+          p.options.free_principal_point_max_cost_ratio * chosen->truncated_cost ||
+      offset < p.options.free_principal_point_min_offset)
+    return;
+  debug("image {}: principal point ({:.1f}, {:.1f}) of its own, truncated cost {:.1f} -> {:.1f}",
+        p.image_id, best.camera.params[Camera::kU0], best.camera.params[Camera::kV0],
+        chosen->truncated_cost, best.truncated_cost);
+  *chosen = best;
 }
 
 // The registered image that shares the most 3D points with the correspondences (the most
@@ -217,6 +297,7 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
   const bool camera_registered =
       std::any_of(registration_order.begin(), registration_order.end(),
                   [&](image_t other) { return rec->image(other).camera_id == image.camera_id; });
+  const Camera* same_size = SameSizeCamera(*rec, camera, registration_order);
   RegistrationProblem problem{
       .options = options,
       .intrinsics = intrinsics,
@@ -228,7 +309,8 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
       .start_camera =
           camera_registered
               ? camera
-              : StartingCamera(camera, rec->CameraOf(Neighbour(*rec, corrs, registration_order))),
+              : StartingCamera(camera, rec->CameraOf(Neighbour(*rec, corrs, registration_order)),
+                               same_size),
       .camera_registered = camera_registered,
       .refine = {}};
   for (const auto& c : corrs) {
@@ -238,13 +320,16 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
   problem.refine.intrinsics = intrinsics.ForRegistration(camera_registered);
 
   std::vector<Hypothesis> hypotheses;
-  AddDltHypothesis(problem, &hypotheses);
+  const std::optional<DltEstimate> dlt = EstimateDlt(problem);
+  if (dlt) AddDltHypothesis(problem, *dlt, &hypotheses);
   AddPnpHypothesis(problem, &hypotheses);
   if (hypotheses.empty()) return false;
   // The first of the best: the DLT's on a tie.
-  const Hypothesis& chosen = *std::max_element(
+  Hypothesis chosen = *std::max_element(
       hypotheses.begin(), hypotheses.end(),
       [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
+  if (!camera_registered && !same_size && !problem.refine.intrinsics.refine_principal_point)
+    FreePrincipalPoint(problem, dlt, &chosen);
   if (chosen.inliers < static_cast<size_t>(options.min_inliers) ||
       chosen.inliers < options.min_inlier_ratio * corrs.size())
     return false;

@@ -3,7 +3,8 @@
 // correspondences through the tracks of every registered image (Algorithm 2, generalised), a
 // RANSAC + DLT projection matrix decomposed into K, R, t, and non-linear refinement of the pose
 // and of the intrinsics the policy frees; beyond the paper, a PnP hypothesis with a neighbour's
-// intrinsics competes with it (a nearly planar set of points makes the DLT ill-posed).
+// intrinsics competes with it (a nearly planar set of points makes the DLT ill-posed), and the
+// first photo of a size that fits poorly with a centred principal point gets its own.
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,12 @@ struct ImageRegistrationOptions {
   double dlt_max_aspect = 1.25;
   double dlt_max_skew_fraction = 0.1;
   double dlt_max_principal_point_offset = 0.3;
+  // The first image of its size is refined once more with its principal point free (a photo
+  // cropped off-centre); that pose and camera are taken when their truncated squared error is at
+  // most max_cost_ratio of the centred one's (0: never) and the principal point lies at least
+  // min_offset x the larger side from the centre.
+  double free_principal_point_max_cost_ratio = 0.5;
+  double free_principal_point_min_offset = 0.1;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 
