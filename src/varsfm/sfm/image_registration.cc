@@ -328,7 +328,8 @@ bool RegisterImage(const CorrespondenceGraph& graph, const ImageRegistrationOpti
   Hypothesis chosen = *std::max_element(
       hypotheses.begin(), hypotheses.end(),
       [](const Hypothesis& a, const Hypothesis& b) { return a.inliers < b.inliers; });
-  if (!camera_registered && !same_size && !problem.refine.intrinsics.refine_principal_point)
+  if (!camera_registered && !same_size && !problem.refine.intrinsics.refine_principal_point &&
+      options.free_principal_point_max_cost_ratio > 0)
     FreePrincipalPoint(problem, dlt, &chosen);
   if (chosen.inliers < static_cast<size_t>(options.min_inliers) ||
       chosen.inliers < options.min_inlier_ratio * corrs.size())
