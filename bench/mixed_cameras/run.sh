@@ -6,8 +6,8 @@
 #   harsh    every third photo cropped to its bottom-right 524x383 (a corner cut out in an
 #            editor: the principal point 55 % of the larger side from the crop's centre)
 #   mixed    the photos cycle through original, upscaled and the harsh crop; 0005 also grey
-# Camera centre and rotation errors are meaningful for every photo. The focal-length error of a
-# cropped photo is not: `evaluate` scales the true K by the width ratio (a resize).
+# Camera centre and rotation errors are measured for every photo; `evaluate` leaves out the
+# intrinsics of a photo whose aspect ratio differs from the ground truth's (a crop).
 set -euo pipefail
 BIN=$(realpath "$1"); WORK=$2
 DATA=${VARSFM_SHARED_DATA:-$(dirname "$0")/../../../shared/data}/strecha/fountain-P11

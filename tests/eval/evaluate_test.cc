@@ -135,6 +135,30 @@ TEST(Evaluate, IntrinsicsAtAnotherImageSizeAreScaled) {
   EXPECT_LT(r.principal_point_error_px.max, 1e-9);
 }
 
+// A photo cropped to 60 % of its width: its principal point and field of view are no longer the
+// ground truth's, so its intrinsics are not compared (its pose still is).
+TEST(Evaluate, IntrinsicsOfACroppedPhotoAreNotCompared) {
+  Fixture f = MakeFixture(4);
+  Camera& c = f.estimated.camera(2);
+  c.width = static_cast<int>(0.6 * c.width);
+  c.params[Camera::kU0] -= 0.2 * f.gt.cameras.begin()->second.camera.width;
+  const EvaluationReport r = EvaluateAgainstGroundTruth(f.estimated, f.gt);
+  EXPECT_FALSE(r.images[1].intrinsics_compared);
+  EXPECT_TRUE(std::isnan(r.images[1].focal_error_percent));
+  EXPECT_TRUE(std::isnan(r.images[1].principal_point_error_px));
+  EXPECT_EQ(r.focal_error_percent.count, 3u);
+  EXPECT_LT(r.focal_error_percent.max, 1e-12);
+  EXPECT_LT(r.images[1].center_error, 1e-9);
+  EXPECT_NE(FormatReport(r).find("intrinsics of 1 image(s) not compared"), std::string::npos);
+  // Resized by a factor that rounds the height (683 -> 341 px): still compared.
+  Fixture g = MakeFixture(4);
+  Camera& d = g.estimated.camera(2);
+  const double s = 0.5;
+  d.width = static_cast<int>(d.width * s);
+  d.height = static_cast<int>(d.height * s) - 1;
+  EXPECT_TRUE(EvaluateAgainstGroundTruth(g.estimated, g.gt).images[1].intrinsics_compared);
+}
+
 TEST(Evaluate, UnregisteredAndMissingImages) {
   Fixture f = MakeFixture(5);
   f.estimated.DeRegisterImage(2);

@@ -49,8 +49,20 @@ double RotationAngleDeg(const Eigen::Matrix3d& R) {
   return std::atan2(0.5 * axis.norm(), c) * 180.0 / std::numbers::pi;
 }
 
+// Whether the estimated camera's image is the true one's, resized: the two scales agree within
+// the rounding of a pixel on the smaller side. A cropped photo's intrinsics have another origin
+// and field of view, and comparing them would report its crop as error.
+bool SameFrame(const Camera& estimated, const Camera& truth) {
+  if (estimated.width <= 0 || estimated.height <= 0) return false;
+  const double sx = static_cast<double>(truth.width) / estimated.width;
+  const double sy = static_cast<double>(truth.height) / estimated.height;
+  return std::abs(sx - sy) <= 1.5 * sx / std::min(estimated.width, estimated.height);
+}
+
 void CompareIntrinsics(const Camera& estimated, const Camera& truth, ImageEvaluation* e) {
-  const double s = estimated.width > 0 ? static_cast<double>(truth.width) / estimated.width : 1.0;
+  if (!SameFrame(estimated, truth)) return;
+  e->intrinsics_compared = true;
+  const double s = static_cast<double>(truth.width) / estimated.width;
   const double f = s * estimated.focal(), f_gt = truth.focal();
   e->focal_error_percent = 100.0 * std::abs(f - f_gt) / f_gt;
   e->aspect_error = std::abs(estimated.params[Camera::kAspect] - truth.params[Camera::kAspect]);
@@ -181,6 +193,7 @@ nlohmann::json ToJson(const EvaluationReport& r) {
   for (const auto& e : r.images)
     images.push_back({{"name", e.name},
                       {"registered", e.registered},
+                      {"intrinsics_compared", e.intrinsics_compared},
                       {"alignment_inlier", e.alignment_inlier},
                       {"center_error_m", Number(e.center_error)},
                       {"rotation_error_deg", Number(e.rotation_error_deg)},
@@ -214,6 +227,14 @@ std::string FormatReport(const EvaluationReport& r) {
   row("focal length (%)", r.focal_error_percent, 3);
   row("aspect ratio", r.aspect_error, 5);
   row("principal point (px)", r.principal_point_error_px, 2);
+  const auto cropped = std::count_if(
+      r.images.begin(), r.images.end(),
+      [](const ImageEvaluation& e) { return e.registered && !e.intrinsics_compared; });
+  if (cropped > 0)
+    line(
+        fmt::format("intrinsics of {} image(s) not compared: their aspect ratio differs from the "
+                    "ground truth's (a cropped photo)",
+                    cropped));
   line("");
   line(fmt::format("{:<24}{:>12}{:>10}{:>10}{:>10}{:>10}", "image", "centre", "rot deg", "focal %",
                    "pp px", "inlier"));

@@ -39,6 +39,9 @@ struct ImageEvaluation {
   double focal_error_percent = std::numeric_limits<double>::quiet_NaN();  // 100 |f - f_gt| / f_gt
   double aspect_error = std::numeric_limits<double>::quiet_NaN();         // |e - e_gt|
   double principal_point_error_px = std::numeric_limits<double>::quiet_NaN();
+  // The intrinsics errors above are measured: registered, and the model's image is the true one
+  // resized (not cropped: the aspect ratio agrees).
+  bool intrinsics_compared = false;
   bool alignment_inlier = false;
 };
 
@@ -58,7 +61,8 @@ struct EvaluationReport {
 };
 
 // Estimated intrinsics are compared at the ground truth's image size: if the model's camera has
-// a different width, its focal length and principal point are scaled by width_gt / width.
+// a different width, its focal length and principal point are scaled by width_gt / width. An
+// image whose aspect ratio differs from the ground truth's (cropped) has no intrinsics errors.
 EvaluationReport EvaluateAgainstGroundTruth(const Reconstruction& reconstruction,
                                             const GroundTruth& ground_truth,
                                             const EvaluationOptions& options = {});
