@@ -32,6 +32,7 @@ TEST(GaussianSplattingExport, WritesPinholeModelAndUndistortedPhotos) {
   testing::WritePhotos(model, tmp.path() / "photos");
   const auto summary = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
   EXPECT_EQ(summary.num_images, model.NumRegisteredImages());
+  EXPECT_EQ(summary.num_off_centre, 0u);
 
   const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
   ASSERT_EQ(exported.NumRegisteredImages(), model.NumRegisteredImages());
@@ -58,6 +59,22 @@ TEST(GaussianSplattingExport, WritesPinholeModelAndUndistortedPhotos) {
     EXPECT_TRUE(entry.path().filename() == "photos" || entry.path().filename() == "gs")
         << entry.path();
   }
+}
+
+// A photo cropped off-centre keeps its principal point (the COLMAP model is exact) and is counted,
+// so that the command can warn those whose trainer ignores cx, cy.
+TEST(GaussianSplattingExport, CountsPhotosWithAnOffCentrePrincipalPoint) {
+  TempDir tmp("export_3dgs_off_centre");
+  Reconstruction model = ZoomingModel();
+  const image_t cropped = model.RegisteredImageIds().front();
+  Camera& camera = model.camera(model.image(cropped).camera_id);
+  camera.params[Camera::kU0] -= 0.2 * camera.width;
+  testing::WritePhotos(model, tmp.path() / "photos");
+  const auto summary = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
+  EXPECT_EQ(summary.num_off_centre, 1u);
+  const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
+  const Camera& pinhole = exported.CameraOf(cropped);
+  EXPECT_LT(pinhole.params[Camera::kU0], 0.4 * pinhole.width);
 }
 
 // COLMAP itself reads the exported model (COLMAP is a test dependency; skipped without it).

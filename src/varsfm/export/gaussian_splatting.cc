@@ -1,5 +1,6 @@
 #include "varsfm/export/gaussian_splatting.h"
 
+#include <algorithm>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -60,7 +61,15 @@ GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& rec
     colmap.force_model_id = kColmapPinhole;
     WriteColmapModel(undistorted, dir / "sparse" / "0", colmap);
   });
-  return {image_ids.size(), reconstruction.points3D().size()};
+  GaussianSplattingExportSummary summary{image_ids.size(), reconstruction.points3D().size(), 0};
+  for (const image_t id : image_ids) {
+    const Camera& c = undistorted.CameraOf(id);
+    const Eigen::Vector2d offset(c.params[Camera::kU0] - 0.5 * c.width,
+                                 c.params[Camera::kV0] - 0.5 * c.height);
+    if (offset.norm() > kOffCentrePrincipalPoint * std::max(c.width, c.height))
+      ++summary.num_off_centre;
+  }
+  return summary;
 }
 
 }  // namespace varsfm

@@ -12,7 +12,14 @@ namespace varsfm {
 struct GaussianSplattingExportSummary {
   size_t num_images = 0;
   size_t num_points = 0;
+  // Exported cameras whose principal point lies more than kOffCentrePrincipalPoint x the larger
+  // side from the image centre (photos cropped off-centre). 3DGS' reference loader takes a
+  // camera's field of view from its focal length and size and ignores cx, cy, so it misplaces
+  // these photos; trainers that read cx, cy (gsplat, nerfstudio's splatfacto) do not.
+  size_t num_off_centre = 0;
 };
+
+inline constexpr double kOffCentrePrincipalPoint = 0.05;
 
 // The model with every camera replaced by its undistorted pinhole camera
 // (undistortion.h) and every 2D observation moved to where it lies in the undistorted image.

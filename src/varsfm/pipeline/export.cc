@@ -71,6 +71,12 @@ ExportSummary RunExport(const ExportOptions& options) {
         ExportGaussianSplatting(reconstruction, image_dir, options.output);
     summary.num_images = s.num_images;
     summary.num_points = s.num_points;
+    if (s.num_off_centre > 0)
+      warn(
+          "export: {} of {} photos have their principal point more than {:.0f} % of the image "
+          "off its centre (cropped photos): 3D Gaussian Splatting's reference loader ignores cx, "
+          "cy and misplaces them; trainers that read cx, cy (gsplat, nerfstudio) do not",
+          s.num_off_centre, s.num_images, 100 * kOffCentrePrincipalPoint);
   } else {
     const NerfstudioExportSummary s = ExportNerfstudio(reconstruction, image_dir, options.output);
     summary.num_images = s.num_frames;
