@@ -150,7 +150,7 @@ TEST(Evaluate, IntrinsicsOfACroppedPhotoAreNotCompared) {
   EXPECT_LT(r.focal_error_percent.max, 1e-12);
   EXPECT_LT(r.images[1].center_error, 1e-9);
   EXPECT_NE(FormatReport(r).find("intrinsics of 1 image(s) not compared"), std::string::npos);
-  // Resized by a factor that rounds the height (683 -> 341 px): still compared.
+  // Resized by half with the height rounded a pixel down (768 -> 383 px): still compared.
   Fixture g = MakeFixture(4);
   Camera& d = g.estimated.camera(2);
   const double s = 0.5;
