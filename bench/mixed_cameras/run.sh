@@ -6,6 +6,8 @@
 #   harsh    every third photo cropped to its bottom-right 524x383 (a corner cut out in an
 #            editor: the principal point 55 % of the larger side from the crop's centre)
 #   mixed    the photos cycle through original, upscaled and the harsh crop; 0005 also grey
+#   zoom     every photo cut to its central 1/z and upscaled back (a digital zoom, z = 1, 1.5, 2,
+#            2.5 in turn)
 # Camera centre and rotation errors are measured for every photo; `evaluate` leaves out the
 # intrinsics of a photo whose aspect ratio differs from the ground truth's (a crop).
 set -euo pipefail
@@ -27,11 +29,16 @@ for i, f in enumerate(sorted(glob.glob(src + '/*.jpg'))):
     if i == 5:
         mixed = cv2.cvtColor(cv2.cvtColor(mixed, cv2.COLOR_BGR2GRAY), cv2.COLOR_GRAY2BGR)
     sets['mixed'] = mixed
+    z = [1.0, 1.5, 2.0, 2.5][i % 4]
+    h, w = im.shape[:2]
+    cw, ch = int(round(w / z)), int(round(h / z))
+    x0, y0 = (w - cw) // 2, (h - ch) // 2
+    sets['zoom'] = cv2.resize(im[y0:y0 + ch, x0:x0 + cw], (w, h), interpolation=cv2.INTER_CUBIC)
     for tag, image in sets.items():
         os.makedirs(f'{work}/{tag}', exist_ok=True)
         cv2.imwrite(f'{work}/{tag}/{name}', image, [cv2.IMWRITE_JPEG_QUALITY, 92])
 PY
-for set in resized cropped harsh mixed; do
+for set in resized cropped harsh mixed zoom; do
   out=$WORK/$set.out; rm -rf "$out"
   "$BIN" run "$WORK/$set" "$out" --until sparse -q
   echo "== $set"
