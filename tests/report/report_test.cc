@@ -60,6 +60,28 @@ TEST(SvgChart, NiceTicksCoverTheRangeAtRoundSteps) {
   EXPECT_DOUBLE_EQ(ticks[1] - ticks[0], 100.0);
 }
 
+// Slanted image names reach down to where the x axis' title would be: the title is left out
+// when every name is written, and kept when only indices are (too many images for names).
+TEST(SvgChart, ImageNamesStandForTheXAxisTitle) {
+  const ChartFrame frame{.width = 620, .height = 300, .title = "t", .x_label = "image"};
+  PerImageSeries few;
+  for (int i = 0; i < 12; ++i) {
+    few.names.push_back(fmt::format("photo_{:04d}.jpg", i));
+    few.values.push_back(i);
+  }
+  const std::string named = PerImageChartSvg(frame, few);
+  EXPECT_NE(named.find("rotate(-40)"), std::string::npos);  // the slanted names
+  EXPECT_EQ(named.find(">image<"), std::string::npos);
+  PerImageSeries many;
+  for (int i = 0; i < 200; ++i) {
+    many.names.push_back(fmt::format("photo_{:04d}.jpg", i));
+    many.values.push_back(i);
+  }
+  const std::string indexed = PerImageChartSvg(frame, many);
+  EXPECT_EQ(indexed.find("rotate(-40)"), std::string::npos);
+  EXPECT_NE(indexed.find(">image<"), std::string::npos);
+}
+
 TEST(SvgChart, StageTimesShowMillisecondsBelowATenthOfASecond) {
   const std::string svg = StageTimesSvg({{"registration", 0.012}, {"global BA", 1.25}}, 600);
   EXPECT_NE(svg.find("registration 12 ms"), std::string::npos);

@@ -59,11 +59,15 @@ std::string YAxis(const ChartFrame& frame, const Scale& y, const std::vector<dou
       "<text class=\"label\" transform=\"translate(14 {}) rotate(-90)\" "
       "text-anchor=\"middle\">{}</text>",
       (kTop + frame.height - kBottom) / 2, EscapeHtml(frame.y_label));
-  svg +=
-      fmt::format("<text class=\"label\" x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
-                  (kLeft + frame.width - kRight) / 2, frame.height - 6, EscapeHtml(frame.x_label));
+  if (!frame.x_label.empty())
+    svg += fmt::format("<text class=\"label\" x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
+                       (kLeft + frame.width - kRight) / 2, frame.height - 6,
+                       EscapeHtml(frame.x_label));
   return svg;
 }
+
+// Whether every image's name fits under its slot (else every k-th index is written).
+bool NamesFit(double slot) { return slot >= 14; }
 
 // Labels under the categories: every image's name when they fit, else every k-th index.
 std::string CategoryLabels(const ChartFrame& frame, const std::vector<std::string>& names,
@@ -72,7 +76,7 @@ std::string CategoryLabels(const ChartFrame& frame, const std::vector<std::strin
   const size_t n = names.size();
   const double slot = (frame.width - kLeft - kRight) / std::max<double>(1, n);
   const int y = frame.height - kBottom + 12;
-  if (slot >= 14) {
+  if (NamesFit(slot)) {
     for (size_t i = 0; i < n; ++i) {
       std::string label = names[i];
       if (label.size() > 10) label = "\u2026" + label.substr(label.size() - 9);
@@ -144,7 +148,10 @@ std::string PerImageChartSvg(const ChartFrame& frame, const PerImageSeries& seri
   const Scale x{-0.5, n - 0.5, static_cast<double>(kLeft), static_cast<double>(kLeft + slot * n)};
   const Scale y{ticks.front(), ticks.back(), static_cast<double>(frame.height - kBottom),
                 static_cast<double>(kTop)};
-  std::string svg = Open(frame) + YAxis(frame, y, ticks) + CategoryLabels(frame, series.names, x);
+  // Slanted names reach down to the x axis' title; they say what the axis holds without it.
+  ChartFrame axes = frame;
+  if (NamesFit(slot)) axes.x_label.clear();
+  std::string svg = Open(frame) + YAxis(axes, y, ticks) + CategoryLabels(frame, series.names, x);
   if (series.right_axis_unit && *series.right_axis_unit > 0) {
     const double unit = *series.right_axis_unit;
     const std::vector<double> ratios = NiceTicks(ticks.front() / unit, ticks.back() / unit);
