@@ -280,19 +280,27 @@ unsigned SharedMask(const IntrinsicsOptions& options) {
   return mask;
 }
 
-// The variable cameras that form per-size groups (sizes with enough of them), and the sizes.
+// The variable cameras that form per-size groups, and the sizes: those whose variable cameras
+// the problem's images use at least min_images_to_share times. It is the images that pin a
+// shared parameter down: one camera of many images (`--intrinsics shared`) forms a group as
+// several cameras of one image each do.
 std::set<camera_t> SharedGroupMembers(const IntrinsicsOptions& options,
                                       const BundleAdjustmentConfig& config,
-                                      const std::set<camera_t>& cameras, const Reconstruction& rec,
+                                      const std::set<image_t>& images, const Reconstruction& rec,
                                       std::set<ParameterBuffer::SizeKey>* sizes) {
   std::set<camera_t> members;
   if (SharedMask(options) == 0) return members;
-  std::map<ParameterBuffer::SizeKey, std::vector<camera_t>> by_size;
-  for (const camera_t id : cameras)
-    if (!config.constant_cameras.count(id))
-      by_size[{rec.camera(id).width, rec.camera(id).height}].push_back(id);
-  for (const auto& [size, ids] : by_size) {
-    if (static_cast<int>(ids.size()) < std::max(1, options.min_images_to_share)) continue;
+  std::map<ParameterBuffer::SizeKey, std::set<camera_t>> cameras_of_size;
+  std::map<ParameterBuffer::SizeKey, int> images_of_size;
+  for (const image_t image_id : images) {
+    const camera_t id = rec.image(image_id).camera_id;
+    if (config.constant_cameras.count(id)) continue;
+    const ParameterBuffer::SizeKey size{rec.camera(id).width, rec.camera(id).height};
+    cameras_of_size[size].insert(id);
+    ++images_of_size[size];
+  }
+  for (const auto& [size, ids] : cameras_of_size) {
+    if (images_of_size[size] < std::max(1, options.min_images_to_share)) continue;
     sizes->insert(size);
     members.insert(ids.begin(), ids.end());
   }
@@ -637,7 +645,7 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
   const unsigned shared_mask = SharedMask(options.intrinsics);
   std::set<ParameterBuffer::SizeKey> shared_sizes;
   const std::set<camera_t> group_members =
-      SharedGroupMembers(options.intrinsics, config, problem_cameras, rec, &shared_sizes);
+      SharedGroupMembers(options.intrinsics, config, problem_images, rec, &shared_sizes);
   ParameterBuffer buffer(rec, problem_images, shared_sizes, group_members, shared_mask,
                          problem_points);
 

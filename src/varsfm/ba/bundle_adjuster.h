@@ -53,8 +53,9 @@ struct IntrinsicsOptions {
   // the mapper's default: one image cannot separate its principal point from its rotation
   // (docs/mapper.md: refined per image it costs 2.3 deg on fountain-P11), but the images of
   // one physical camera share it, and many views pin it down. {kAspect, kSkew, kU0, kV0, kK1,
-  // kK2} is "focal length per image, the rest shared". Sizes with fewer than
-  // `min_images_to_share` variable cameras form no group: there the shared parameters are held.
+  // kK2} is "focal length per image, the rest shared". Sizes whose variable cameras fewer than
+  // `min_images_to_share` of the problem's images use form no group: there the shared
+  // parameters are held. One camera of many images (`--intrinsics shared`) forms a group.
   std::vector<int> shared_per_size;
   int min_images_to_share = 3;
 };
