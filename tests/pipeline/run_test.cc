@@ -34,13 +34,7 @@ nlohmann::json RunAndEvaluate(const std::filesystem::path& set, const TempDir& t
                        &out),
             0)
       << out;
-  EXPECT_EQ(RunCommand(fmt::format("{} evaluate {} --gt {} --json {}", ShellQuote(VarsfmBinary()),
-                                   ShellQuote(model / "sparse"), ShellQuote(set / "gt"),
-                                   ShellQuote(tmp.path() / "eval.json")),
-                       &out),
-            0)
-      << out;
-  return ReadJson(tmp.path() / "eval.json");
+  return testing::EvaluateCommand(model / "sparse", set / "gt", tmp.path() / "eval.json");
 }
 
 TEST(RunCommand, FountainP11MeetsAccuracyBounds) {

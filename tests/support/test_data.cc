@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 namespace varsfm::testing {
@@ -64,6 +65,18 @@ int RunCommand(const std::string& command, std::string* output) {
   const int status = pclose(pipe);
   if (output != nullptr) *output = text;
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+nlohmann::json EvaluateCommand(const std::filesystem::path& model, const std::filesystem::path& gt,
+                               const std::filesystem::path& json_file) {
+  std::string output;
+  const int code = RunCommand(ShellQuote(VarsfmBinary()) + " evaluate " + ShellQuote(model) +
+                                  " --gt " + ShellQuote(gt) + " --json " + ShellQuote(json_file),
+                              &output);
+  EXPECT_EQ(code, 0) << output;
+  if (code != 0) return nlohmann::json::object();
+  std::ifstream in(json_file);
+  return nlohmann::json::parse(in);
 }
 
 }  // namespace varsfm::testing

@@ -4,6 +4,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace varsfm::testing {
 
@@ -38,6 +39,11 @@ std::string ShellQuote(const std::filesystem::path& path);
 
 // Runs a shell command, returning its exit code; stdout+stderr go to `output` if given.
 int RunCommand(const std::string& command, std::string* output = nullptr);
+
+// `varsfm evaluate MODEL --gt GT --json JSON_FILE`, parsed. A failed command fails the calling
+// test (with its output) and gives an empty object.
+nlohmann::json EvaluateCommand(const std::filesystem::path& model, const std::filesystem::path& gt,
+                               const std::filesystem::path& json_file);
 
 }  // namespace varsfm::testing
 

@@ -43,6 +43,10 @@ struct Camera {
   // A pixel threshold expressed in normalised units (for thresholds on normalised data).
   double ImageToNormalizedThreshold(double pixels) const { return pixels / params[kFocal]; }
   bool HasDistortion() const { return params[kK1] != 0.0 || params[kK2] != 0.0; }
+  // The principal point's offset from the image centre (px).
+  Eigen::Vector2d PrincipalPointOffset() const {
+    return {params[kU0] - 0.5 * width, params[kV0] - 0.5 * height};
+  }
 
   camera_t camera_id = 0;
   int width = 0;

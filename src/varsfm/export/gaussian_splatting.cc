@@ -64,9 +64,7 @@ GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& rec
   GaussianSplattingExportSummary summary{image_ids.size(), reconstruction.points3D().size(), 0};
   for (const image_t id : image_ids) {
     const Camera& c = undistorted.CameraOf(id);
-    const Eigen::Vector2d offset(c.params[Camera::kU0] - 0.5 * c.width,
-                                 c.params[Camera::kV0] - 0.5 * c.height);
-    if (offset.norm() > kOffCentrePrincipalPoint * std::max(c.width, c.height))
+    if (c.PrincipalPointOffset().norm() > kOffCentrePrincipalPoint * std::max(c.width, c.height))
       ++summary.num_off_centre;
   }
   return summary;

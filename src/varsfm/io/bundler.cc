@@ -23,7 +23,7 @@ double BundlerModelDeviation(const Camera& camera) {
   const auto& p = camera.params;
   if (p[Camera::kAspect] != 1.0 || p[Camera::kSkew] != 0.0)
     return std::numeric_limits<double>::infinity();
-  return std::hypot(p[Camera::kU0] - 0.5 * camera.width, p[Camera::kV0] - 0.5 * camera.height);
+  return camera.PrincipalPointOffset().norm();
 }
 
 void WriteList(const Reconstruction& rec, std::ostream& out) {

@@ -255,11 +255,8 @@ void FreePrincipalPoint(const RegistrationProblem& p, const std::optional<DltEst
   const Hypothesis& best = *std::min_element(
       freed.begin(), freed.end(),
       [](const Hypothesis& a, const Hypothesis& b) { return a.truncated_cost < b.truncated_cost; });
-  const Camera& c = best.camera;
   const double offset =
-      Eigen::Vector2d(c.params[Camera::kU0] - 0.5 * c.width, c.params[Camera::kV0] - 0.5 * c.height)
-          .norm() /
-      std::max(c.width, c.height);
+      best.camera.PrincipalPointOffset().norm() / std::max(best.camera.width, best.camera.height);
   if (best.truncated_cost >
           p.options.free_principal_point_max_cost_ratio * chosen->truncated_cost ||
       offset < p.options.free_principal_point_min_offset)
