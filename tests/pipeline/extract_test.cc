@@ -422,9 +422,11 @@ TEST(ExtractCommand, FeaturesOfAnotherExtractorVersionAreExtractedAgain) {
   }
 }
 
-// A video panning across a textured scene, with blurred frames at `blurred`.
-void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred, int seed = 5) {
-  cv::Mat scene(360, 480 + 10 * frames, CV_8UC3, cv::Scalar(120, 120, 120));
+// A video panning across a textured scene by `step` pixels a frame, with blurred frames at
+// `blurred`.
+void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurred, int seed = 5,
+                   int step = 10) {
+  cv::Mat scene(360, 480 + step * frames, CV_8UC3, cv::Scalar(120, 120, 120));
   cv::RNG rng(seed);
   for (int i = 0; i < 500; ++i) {
     const cv::Point center(rng.uniform(0, scene.cols), rng.uniform(0, scene.rows));
@@ -436,7 +438,7 @@ void WritePanVideo(const fs::path& path, int frames, const std::set<int>& blurre
                          cv::Size(480, 360));
   ASSERT_TRUE(writer.isOpened());
   for (int i = 0; i < frames; ++i) {
-    cv::Mat frame = scene(cv::Rect(10 * i, 0, 480, 360)).clone();
+    cv::Mat frame = scene(cv::Rect(step * i, 0, 480, 360)).clone();
     if (blurred.count(i)) cv::GaussianBlur(frame, frame, cv::Size(), 5.0);
     writer.write(frame);
   }
@@ -548,6 +550,25 @@ TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
                          ShellQuote(video), ShellQuote(own)),
              &log);
   EXPECT_EQ(log.find("not keyframes of"), std::string::npos) << log;
+}
+
+// A video from a camera that does not move gives one keyframe: `run` says so in the video's
+// terms, on one line, before matching.
+TEST(RunCommand, AVideoThatHardlyMovesIsAOneLineError) {
+  TempDir dir("run_static_video");
+  const fs::path video = dir.path() / "tripod.avi";
+  WritePanVideo(video, 30, {}, /*seed=*/5, /*step=*/0);
+  std::string log;
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()), ShellQuote(video),
+                                   ShellQuote(dir.path() / "out")),
+                       &log),
+            1)
+      << log;
+  EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe of 30 frames"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("the camera hardly moves"), std::string::npos) << log;
+  EXPECT_EQ(log.find("matching needs"), std::string::npos) << log;
 }
 
 TEST(ExtractCommand, OtherKeyframeSettingsReplaceTheEarlierKeyframes) {

@@ -66,6 +66,14 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   (video ? extract.video : extract.image_dir) = options.input;
   const ExtractSummary extracted = RunExtraction(extract, OptionsCheck::kDoneByCaller);
   result->seconds_extract = timer.Seconds();
+  // A video whose frames barely differ gives one keyframe (a sharp one is kept whatever the
+  // motion): said here in the video's terms rather than by matching's count of images.
+  if (video && extracted.num_images < 2)
+    Fail(
+        "video {} gave {} keyframe of {} frames ({} blurred): the camera hardly moves; film "
+        "while moving around the scene",
+        options.input.string(), extracted.num_images, extracted.video_frames,
+        extracted.video_blurred);
 
   timer.Restart();
   MatchOptions match = options.match;
