@@ -279,6 +279,9 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
   cmd->add_flag("!--no-shared-principal-point", in.share_principal_point,
                 "hold every principal point at its image centre (default: one principal point "
                 "per image size, estimated in the global adjustments)");
+  AddWithDefault(cmd, "--zoom-band", in.zoom_band_focal_ratio,
+                 "what is estimated per image size is shared by the photos whose focal lengths "
+                 "are within this ratio (a zoom setting; 0: all photos of the size)");
   cmd->add_flag("--refine-aspect", in.refine_aspect, "estimate the aspect ratio per image");
   cmd->add_flag("--refine-skew", in.refine_skew, "estimate the skew per image");
   cmd->add_flag("!--no-distortion", in.refine_distortion, "hold k1 = k2 = 0");

@@ -365,6 +365,50 @@ TEST(IncrementalMapper, OneSharedCameraEstimatesItsPrincipalPoint) {
   for (int i = 0; i < 12; ++i) EXPECT_LT(errors[i], 0.01 * o.orbit_radius) << "image " << i;
 }
 
+// Two zoom settings of a digital zoom: the second half of the images is a centred crop
+// magnified x1.6, so its focal length and its principal point's offset from the image centre are
+// x1.6 the first half's. Each setting's principal point is found: one pooled over both (the
+// images' size is one) is wrong for both, and the zoomed images' by more than 2 px.
+TEST(IncrementalMapper, EachZoomSettingGetsItsOwnPrincipalPoint) {
+  SyntheticOptions o = ZoomingOrbit();
+  o.focal_end = o.focal_start;
+  SyntheticScene scene = GenerateSyntheticScene(o);
+  const Eigen::Vector2d offset(20, 12);  // at the first setting
+  for (int i = 0; i < scene.NumImages(); ++i) {
+    const double zoom = i < scene.NumImages() / 2 ? 1.0 : 1.6;
+    Camera& truth = scene.cameras[i];
+    const Eigen::Vector2d centre(truth.params[Camera::kU0], truth.params[Camera::kV0]);
+    truth.focal() *= zoom;
+    truth.params[Camera::kU0] += zoom * offset.x();
+    truth.params[Camera::kV0] += zoom * offset.y();
+    std::vector<SyntheticObservation> inside;
+    for (SyntheticObservation obs : scene.observations[i]) {
+      obs.pixel = centre + zoom * (obs.pixel - centre + offset);
+      obs.true_pixel = centre + zoom * (obs.true_pixel - centre + offset);
+      if (obs.true_pixel.x() >= 0 && obs.true_pixel.y() >= 0 && obs.true_pixel.x() < truth.width &&
+          obs.true_pixel.y() < truth.height)
+        inside.push_back(obs);
+    }
+    scene.observations[i] = inside;
+  }
+  MapperInput in = MakeInput(scene);
+  const MapperSummary summary =
+      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  ASSERT_TRUE(summary.success) << summary.message;
+  const Reconstruction& rec = in.reconstruction;
+  ASSERT_EQ(rec.NumRegisteredImages(), 12u);
+  for (int i = 0; i < scene.NumImages(); ++i) {
+    const Camera& camera = rec.camera(i + 1);
+    const Camera& truth = scene.cameras[i];
+    EXPECT_NEAR(camera.params[Camera::kU0], truth.params[Camera::kU0], 2.0) << "image " << i;
+    EXPECT_NEAR(camera.params[Camera::kV0], truth.params[Camera::kV0], 2.0) << "image " << i;
+    EXPECT_NEAR(camera.focal() / truth.focal(), 1.0, 0.01) << "image " << i;
+  }
+  const std::vector<double> errors = CentreErrors(rec, scene);
+  ASSERT_EQ(errors.size(), 12u);
+  for (int i = 0; i < 12; ++i) EXPECT_LT(errors[i], 0.01 * o.orbit_radius) << "image " << i;
+}
+
 TEST(IncrementalMapper, PureRotationCannotInitialise) {
   SyntheticOptions o = ZoomingOrbit();
   o.path = SyntheticOptions::Path::kPureRotation;

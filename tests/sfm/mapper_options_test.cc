@@ -111,10 +111,13 @@ TEST(MapperOptions, ScheduleRefusesBadValues) {
       [](IncrementalMapperOptions& m) -> O& { return m.adjustment; });
 }
 
-TEST(MapperOptions, IntrinsicsPolicyRefusesAnUnknownSharing) {
+TEST(MapperOptions, IntrinsicsPolicyRefusesBadValues) {
   using O = IntrinsicsPolicy;
   ExpectEachRejected<O>(
-      {{"--intrinsics", [](O& o) { o.sharing = static_cast<IntrinsicsSharing>(7); }}},
+      {{"--intrinsics", [](O& o) { o.sharing = static_cast<IntrinsicsSharing>(7); }},
+       {"--zoom-band", [](O& o) { o.zoom_band_focal_ratio = 1.0; }},
+       {"--zoom-band", [](O& o) { o.zoom_band_focal_ratio = -2; }},
+       {"--zoom-band", [](O& o) { o.zoom_band_focal_ratio = kNan; }}},
       [](IncrementalMapperOptions& m) -> O& { return m.intrinsics; });
 }
 

@@ -58,6 +58,12 @@ struct IntrinsicsOptions {
   // parameters are held. One camera of many images (`--intrinsics shared`) forms a group.
   std::vector<int> shared_per_size;
   int min_images_to_share = 3;
+  // A camera zoomed in shares them only with those of its size whose focal lengths are within
+  // this ratio of each other (a zoom band; 0: every camera of the size). A zoom moves the
+  // principal point (a centred crop scales its offset from the image centre with the focal
+  // length) and changes the distortion, and the one point of a size pooled over zoomed and
+  // unzoomed photos is wrong for both (docs/measurements.md, "The principal point under zoom").
+  double max_shared_focal_ratio = 0.0;
 };
 
 // The camera parameters (Camera::Param indices, ascending) that `options` holds at their values.

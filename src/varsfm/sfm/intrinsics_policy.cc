@@ -8,6 +8,8 @@ void IntrinsicsPolicy::Check() const {
   if (sharing != IntrinsicsSharing::kPerImage && sharing != IntrinsicsSharing::kShared &&
       sharing != IntrinsicsSharing::kFocalPerImage)
     FailOption("--intrinsics", "per-image, focal-per-image or shared", static_cast<int>(sharing));
+  if (!(zoom_band_focal_ratio == 0.0 || zoom_band_focal_ratio > 1.0))
+    FailOption("--zoom-band", "0 or above 1", zoom_band_focal_ratio);
 }
 
 std::vector<int> IntrinsicsPolicy::SharedPerSize() const {
@@ -26,6 +28,7 @@ IntrinsicsOptions IntrinsicsPolicy::ForAdjustment(bool whole_model) const {
   in.refine_k1 = refine_distortion;
   in.refine_k2 = refine_distortion;
   in.shared_per_size = SharedPerSize();
+  in.max_shared_focal_ratio = zoom_band_focal_ratio;
   if (share_principal_point && !refine_principal_point) in.refine_principal_point = whole_model;
   if (!whole_model)
     for (const int i : in.shared_per_size) {

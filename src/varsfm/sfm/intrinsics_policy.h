@@ -37,6 +37,10 @@ struct IntrinsicsPolicy {
   bool refine_aspect = false;
   bool refine_skew = false;
   bool refine_distortion = true;  // k1, k2
+  // What is estimated once per image size is shared only by the images of a zoom band: focal
+  // lengths within this ratio (IntrinsicsOptions::max_shared_focal_ratio; 0: one band per size).
+  // Above the few percent by which refocusing changes the focal length.
+  double zoom_band_focal_ratio = 1.1;
 
   void Check() const;  // throws OptionError (util/option_check.h) for a bad value
 
