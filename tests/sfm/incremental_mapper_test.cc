@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <set>
 
 #include "sfm/mapper_input.h"
@@ -42,6 +43,23 @@ std::vector<double> CentreErrors(const Reconstruction& rec, const SyntheticScene
   for (size_t i = 0; i < estimated.size(); ++i)
     errors.push_back((alignment.sim * estimated[i] - truth[i]).norm());
   return errors;
+}
+
+// Moves image i's observations by `to_pixel` (a pixel of the scene's image -> the same point's
+// pixel in the changed one: a crop, a zoom, another principal point), keeping those that land
+// inside its camera's (changed) image.
+void MapObservations(SyntheticScene* scene, int i,
+                     const std::function<Eigen::Vector2d(const Eigen::Vector2d&)>& to_pixel) {
+  const Camera& camera = scene->cameras[i];
+  std::vector<SyntheticObservation> inside;
+  for (SyntheticObservation obs : scene->observations[i]) {
+    obs.pixel = to_pixel(obs.pixel);
+    obs.true_pixel = to_pixel(obs.true_pixel);
+    if (obs.true_pixel.x() >= 0 && obs.true_pixel.y() >= 0 && obs.true_pixel.x() < camera.width &&
+        obs.true_pixel.y() < camera.height)
+      inside.push_back(obs);
+  }
+  scene->observations[i] = std::move(inside);
 }
 
 // With either trust region for the global adjustments (the dogleg by default).
@@ -291,15 +309,8 @@ TEST(IncrementalMapper, PhotosCroppedOffCentreFindTheirPrincipalPoint) {
     truth.height -= static_cast<int>(origin.y());
     truth.params[Camera::kU0] -= origin.x();
     truth.params[Camera::kV0] -= origin.y();
-    std::vector<SyntheticObservation> inside;
-    for (SyntheticObservation obs : scene.observations[i]) {
-      obs.pixel -= origin;
-      obs.true_pixel -= origin;
-      if (obs.true_pixel.x() >= 0 && obs.true_pixel.y() >= 0 && obs.true_pixel.x() < truth.width &&
-          obs.true_pixel.y() < truth.height)
-        inside.push_back(obs);
-    }
-    scene.observations[i] = inside;
+    MapObservations(&scene, i,
+                    [&](const Eigen::Vector2d& x) -> Eigen::Vector2d { return x - origin; });
   }
   MapperInput in = MakeInput(scene);
   const MapperSummary summary =
@@ -337,14 +348,8 @@ TEST(IncrementalMapper, OneSharedCameraEstimatesItsPrincipalPoint) {
     Camera& truth = scene.cameras[i];
     truth.params[Camera::kU0] += offset.x();
     truth.params[Camera::kV0] += offset.y();
-    std::vector<SyntheticObservation> inside;
-    for (SyntheticObservation obs : scene.observations[i]) {
-      obs.pixel += offset;
-      obs.true_pixel += offset;
-      if (obs.true_pixel.x() < truth.width && obs.true_pixel.y() < truth.height)
-        inside.push_back(obs);
-    }
-    scene.observations[i] = inside;
+    MapObservations(&scene, i,
+                    [&](const Eigen::Vector2d& x) -> Eigen::Vector2d { return x + offset; });
   }
   MapperInput in = MakeInput(scene);
   for (int i = 0; i < scene.NumImages(); ++i) in.reconstruction.image(i + 1).camera_id = 1;
@@ -381,15 +386,9 @@ TEST(IncrementalMapper, EachZoomSettingGetsItsOwnPrincipalPoint) {
     truth.focal() *= zoom;
     truth.params[Camera::kU0] += zoom * offset.x();
     truth.params[Camera::kV0] += zoom * offset.y();
-    std::vector<SyntheticObservation> inside;
-    for (SyntheticObservation obs : scene.observations[i]) {
-      obs.pixel = centre + zoom * (obs.pixel - centre + offset);
-      obs.true_pixel = centre + zoom * (obs.true_pixel - centre + offset);
-      if (obs.true_pixel.x() >= 0 && obs.true_pixel.y() >= 0 && obs.true_pixel.x() < truth.width &&
-          obs.true_pixel.y() < truth.height)
-        inside.push_back(obs);
-    }
-    scene.observations[i] = inside;
+    MapObservations(&scene, i, [&](const Eigen::Vector2d& x) -> Eigen::Vector2d {
+      return centre + zoom * (x - centre + offset);
+    });
   }
   MapperInput in = MakeInput(scene);
   const MapperSummary summary =
