@@ -278,7 +278,7 @@ void AddMapperOptions(CLI::App* cmd, varsfm::MapOptions* map) {
                 "estimate the principal point per image (default: held at the centre)");
   cmd->add_flag("!--no-shared-principal-point", in.share_principal_point,
                 "hold every principal point at its image centre (default: one principal point "
-                "per image size, estimated in the global adjustments)");
+                "per image size and zoom band, estimated in the global adjustments)");
   AddWithDefault(cmd, "--zoom-band", in.zoom_band_focal_ratio,
                  "what is estimated per image size is shared by the photos whose focal lengths "
                  "are within this ratio (a zoom setting; 0: all photos of the size)");

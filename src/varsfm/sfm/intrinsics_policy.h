@@ -30,9 +30,10 @@ struct IntrinsicsPolicy {
   // The paper refines every intrinsic per image; on real sequences holding the principal point,
   // aspect and skew is more accurate (docs/mapper.md). The focal length is always estimated.
   bool refine_principal_point = false;
-  // One principal point per image size, estimated in the global adjustments from all images of
-  // that size; new images start from it. One image cannot separate its principal point from its
-  // rotation, but the images of one physical camera share it and many views pin it down.
+  // One principal point per image size (and zoom band, below), estimated in the global
+  // adjustments from all its images; new images start from it. One image cannot separate its
+  // principal point from its rotation, but the images of one physical camera share it and many
+  // views pin it down.
   bool share_principal_point = true;
   bool refine_aspect = false;
   bool refine_skew = false;
