@@ -45,6 +45,11 @@ std::vector<double> CentreErrors(const Reconstruction& rec, const SyntheticScene
   return errors;
 }
 
+// Maps the scene of `in` with `options`.
+MapperSummary Reconstruct(MapperInput* in, const IncrementalMapperOptions& options = {}) {
+  return IncrementalMapper(in->graph, {}, options).Reconstruct(&in->reconstruction);
+}
+
 // Moves image i's observations by `to_pixel` (a pixel of the scene's image -> the same point's
 // pixel in the changed one: a crop, a zoom, another principal point), keeping those that land
 // inside its camera's (changed) image.
@@ -215,8 +220,7 @@ TEST(IncrementalMapper, AWeaklyLinkedImageJoinsAtTheRelaxedThresholds) {
     MapperInput in = MakeInput(scene);
     IncrementalMapperOptions options;
     options.registration.relaxed_min_inliers = relaxed_min_inliers;
-    const MapperSummary summary =
-        IncrementalMapper(in.graph, {}, options).Reconstruct(&in.reconstruction);
+    const MapperSummary summary = Reconstruct(&in, options);
     ASSERT_TRUE(summary.success) << summary.message;
     const Reconstruction& rec = in.reconstruction;
     EXPECT_EQ(rec.NumRegisteredImages(),
@@ -241,8 +245,7 @@ TEST(IncrementalMapper, DegenerateInitialPairTakesItsFocalFromAThirdView) {
   o.arc_degrees = 60;
   const SyntheticScene scene = GenerateSyntheticScene(o);
   MapperInput in = MakeInput(scene);
-  const MapperSummary summary =
-      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  const MapperSummary summary = Reconstruct(&in);
   ASSERT_TRUE(summary.success) << summary.message;
   ASSERT_TRUE(summary.initial_focal_from_prior);
   const double truth_scale = 800 / (1.2 * std::max(o.width, o.height));
@@ -271,8 +274,7 @@ TEST(IncrementalMapper, AnImageOfAnotherSizeKeepsItsOwnPrincipalPoint) {
     for (auto& obs : scene.observations[i]) obs.pixel *= 0.5, obs.true_pixel *= 0.5;
   }
   MapperInput in = MakeInput(scene);
-  const MapperSummary summary =
-      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  const MapperSummary summary = Reconstruct(&in);
   ASSERT_TRUE(summary.success) << summary.message;
   const Reconstruction& rec = in.reconstruction;
   EXPECT_EQ(rec.NumRegisteredImages(), 12u);
@@ -313,8 +315,7 @@ TEST(IncrementalMapper, PhotosCroppedOffCentreFindTheirPrincipalPoint) {
                     [&](const Eigen::Vector2d& x) -> Eigen::Vector2d { return x - origin; });
   }
   MapperInput in = MakeInput(scene);
-  const MapperSummary summary =
-      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  const MapperSummary summary = Reconstruct(&in);
   ASSERT_TRUE(summary.success) << summary.message;
   const Reconstruction& rec = in.reconstruction;
   ASSERT_EQ(rec.NumRegisteredImages(), 12u);
@@ -355,8 +356,7 @@ TEST(IncrementalMapper, OneSharedCameraEstimatesItsPrincipalPoint) {
   for (int i = 0; i < scene.NumImages(); ++i) in.reconstruction.image(i + 1).camera_id = 1;
   IncrementalMapperOptions options;
   options.intrinsics.sharing = IntrinsicsSharing::kShared;
-  const MapperSummary summary =
-      IncrementalMapper(in.graph, {}, options).Reconstruct(&in.reconstruction);
+  const MapperSummary summary = Reconstruct(&in, options);
   ASSERT_TRUE(summary.success) << summary.message;
   const Reconstruction& rec = in.reconstruction;
   ASSERT_EQ(rec.NumRegisteredImages(), 12u);
@@ -391,8 +391,7 @@ TEST(IncrementalMapper, EachZoomSettingGetsItsOwnPrincipalPoint) {
     });
   }
   MapperInput in = MakeInput(scene);
-  const MapperSummary summary =
-      IncrementalMapper(in.graph, {}, IncrementalMapperOptions{}).Reconstruct(&in.reconstruction);
+  const MapperSummary summary = Reconstruct(&in);
   ASSERT_TRUE(summary.success) << summary.message;
   const Reconstruction& rec = in.reconstruction;
   ASSERT_EQ(rec.NumRegisteredImages(), 12u);
