@@ -4,15 +4,14 @@
 #include <array>
 #include <cmath>
 #include <deque>
-#include <limits>
 #include <map>
 #include <memory>
 #include <thread>
-#include <tuple>
 
 #include <ceres/ceres.h>
 
 #include "varsfm/ba/analytic_reprojection_cost.h"
+#include "varsfm/ba/intrinsics_groups.h"
 #include "varsfm/ba/schur_solver.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/timer.h"
@@ -155,15 +154,12 @@ std::vector<Observation> CollectObservations(const BundleAdjustmentConfig& confi
 // points.
 class ParameterBuffer {
  public:
-  // A shared block's key: image width, height and zoom band (SharedGroupMembers).
-  using GroupKey = std::tuple<int, int, int>;
-
   // `group_of_camera`: the cameras that take parameters from a shared block, and its key.
   ParameterBuffer(const Reconstruction& rec, const std::set<image_t>& images,
-                  const std::map<camera_t, GroupKey>& group_of_camera, unsigned shared_mask,
-                  const std::vector<point3D_t>& points)
+                  const std::map<camera_t, IntrinsicsGroupKey>& group_of_camera,
+                  unsigned shared_mask, const std::vector<point3D_t>& points)
       : group_of_camera_(group_of_camera), shared_mask_(shared_mask), point_ids_(points) {
-    std::set<GroupKey> groups;
+    std::set<IntrinsicsGroupKey> groups;
     for (const auto& [id, key] : group_of_camera) groups.insert(key);
     std::map<camera_t, int> images_of_camera;
     for (const image_t id : images) ++images_of_camera[rec.image(id).camera_id];
@@ -192,7 +188,7 @@ class ParameterBuffer {
     for (const auto& [id, count] : images_of_camera)
       if (count > 1) add_camera(id);
     // A shared block starts at the mean of its cameras' parameters.
-    for (const GroupKey& key : groups) {
+    for (const IntrinsicsGroupKey& key : groups) {
       Eigen::Matrix<double, Camera::kNumParams, 1> sum;
       sum.setZero();
       int n = 0;
@@ -221,14 +217,14 @@ class ParameterBuffer {
   double* camera(camera_t id) { return &data_[camera_.at(id)]; }
   double* pose(image_t id) { return &data_[pose_.at(id)]; }  // quaternion, centre
   double* point(point3D_t id) { return &data_[PointOffset(id)]; }
-  double* group(const GroupKey& key) { return &data_[group_.at(key)]; }
+  double* group(const IntrinsicsGroupKey& key) { return &data_[group_.at(key)]; }
   // The shared block the camera takes parameters from; null when it has none.
   double* group(const Camera& camera) {
     const auto it = group_of_camera_.find(camera.camera_id);
     return it == group_of_camera_.end() ? nullptr : group(it->second);
   }
   const std::map<camera_t, size_t>& cameras() const { return camera_; }
-  const std::map<GroupKey, size_t>& groups() const { return group_; }
+  const std::map<IntrinsicsGroupKey, size_t>& groups() const { return group_; }
 
   // Writes the optimised values back (the shared principal points into each of their cameras);
   // what the config holds constant is left untouched, bit for bit.
@@ -270,97 +266,13 @@ class ParameterBuffer {
   std::vector<double> initial_;  // data_ before solving
   std::set<image_t> image_block_;
   std::map<camera_t, size_t> camera_;
-  std::map<GroupKey, size_t> group_;
-  std::map<camera_t, GroupKey> group_of_camera_;
+  std::map<IntrinsicsGroupKey, size_t> group_;
+  std::map<camera_t, IntrinsicsGroupKey> group_of_camera_;
   unsigned shared_mask_ = 0;
   std::map<image_t, size_t> pose_;
   std::vector<point3D_t> point_ids_;  // ascending; their xyz from points_begin_ on
   size_t points_begin_ = 0;
 };
-
-// Bit i set: parameter i is shared per image size.
-unsigned SharedMask(const IntrinsicsOptions& options) {
-  unsigned mask = 0;
-  for (const int i : options.shared_per_size)
-    if (i >= 0 && i < Camera::kNumParams) mask |= 1u << i;
-  return mask;
-}
-
-// The zoom bands of one size's cameras, `by_focal` (focal length, id; ascending): the group each
-// joins, an index into by_focal's bands, or none (empty) when the size's images are fewer than
-// `min_images`. Sorted by focal length, a band takes cameras up to `max_ratio` times its
-// shortest one (0: one band) and the next band starts at the first it leaves out. A band whose
-// cameras `images_of_camera` counts at least min_images times is a group of its own; a smaller
-// one joins the nearest such band by focal-length ratio (alone, a camera would hold what it
-// cannot estimate at its starting value, and the nearest zoom is the nearest guess), and with no
-// such band the size is one group.
-std::vector<int> ZoomBandGroups(const std::vector<std::pair<double, camera_t>>& by_focal,
-                                const std::map<camera_t, int>& images_of_camera, double max_ratio,
-                                int min_images) {
-  struct Band {
-    size_t first, end;  // [first, end) of by_focal
-    int images;
-  };
-  std::vector<Band> bands;
-  int total = 0, large = 0;
-  for (size_t first = 0; first < by_focal.size();) {
-    Band band{first, first + 1, images_of_camera.at(by_focal[first].second)};
-    while (band.end < by_focal.size() &&
-           (max_ratio <= 0.0 || by_focal[band.end].first <= max_ratio * by_focal[first].first))
-      band.images += images_of_camera.at(by_focal[band.end++].second);
-    bands.push_back(band);
-    total += band.images;
-    large += band.images >= min_images;
-    first = band.end;
-  }
-  if (total < min_images) return {};
-  std::vector<int> group_of(by_focal.size(), 0);
-  for (size_t b = 0; b < bands.size(); ++b) {
-    size_t group = b;
-    if (large == 0) {
-      group = 0;
-    } else if (bands[b].images < min_images) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (size_t o = 0; o < bands.size(); ++o) {
-        if (bands[o].images < min_images) continue;
-        const double ratio =
-            o < b ? by_focal[bands[b].first].first / by_focal[bands[o].end - 1].first
-                  : by_focal[bands[o].first].first / by_focal[bands[b].end - 1].first;
-        if (ratio < nearest) nearest = ratio, group = o;
-      }
-    }
-    std::fill(group_of.begin() + bands[b].first, group_of.begin() + bands[b].end,
-              static_cast<int>(group));
-  }
-  return group_of;
-}
-
-// The variable cameras that take parameters from a shared block, with its key: per image size,
-// its zoom bands' groups (ZoomBandGroups). It is the images that pin a shared parameter down:
-// one camera of many images (`--intrinsics shared`) forms a group as several cameras of one image
-// each do.
-std::map<camera_t, ParameterBuffer::GroupKey> SharedGroupMembers(
-    const IntrinsicsOptions& options, const BundleAdjustmentConfig& config,
-    const std::set<image_t>& images, const Reconstruction& rec) {
-  std::map<camera_t, ParameterBuffer::GroupKey> members;
-  if (SharedMask(options) == 0) return members;
-  std::map<std::pair<int, int>, std::map<camera_t, int>> images_of_camera;  // per size
-  for (const image_t image_id : images) {
-    const camera_t id = rec.image(image_id).camera_id;
-    if (config.constant_cameras.count(id)) continue;
-    ++images_of_camera[{rec.camera(id).width, rec.camera(id).height}][id];
-  }
-  for (const auto& [size, counts] : images_of_camera) {
-    std::vector<std::pair<double, camera_t>> by_focal;
-    for (const auto& [id, count] : counts) by_focal.emplace_back(rec.camera(id).focal(), id);
-    std::sort(by_focal.begin(), by_focal.end());
-    const std::vector<int> groups = ZoomBandGroups(by_focal, counts, options.max_shared_focal_ratio,
-                                                   std::max(1, options.min_images_to_share));
-    for (size_t i = 0; i < groups.size(); ++i)
-      members[by_focal[i].second] = {size.first, size.second, groups[i]};
-  }
-  return members;
-}
 
 // What of an image's pose the problem holds: nothing, all of it, or (kScale) one coordinate of
 // the centre, the one along which the image lies farthest from the gauge image.
@@ -697,9 +609,9 @@ BundleAdjustmentSummary RunBundleAdjustment(const BundleAdjustmentOptions& optio
     if (problem_points.empty() || problem_points.back() != o.point3D_id)
       problem_points.push_back(o.point3D_id);
   }
-  const unsigned shared_mask = SharedMask(options.intrinsics);
-  const std::map<camera_t, ParameterBuffer::GroupKey> group_of_camera =
-      SharedGroupMembers(options.intrinsics, config, problem_images, rec);
+  const unsigned shared_mask = SharedIntrinsicsMask(options.intrinsics);
+  const std::map<camera_t, IntrinsicsGroupKey> group_of_camera =
+      SharedGroupMembers(options.intrinsics, config.constant_cameras, problem_images, rec);
   ParameterBuffer buffer(rec, problem_images, group_of_camera, shared_mask, problem_points);
 
   // The shared per-size blocks the problem's cameras take parameters from.
