@@ -597,6 +597,9 @@ void AddExportCommand(CLI::App* app) {
   cmd->add_option("output", options->output, "folder to create")->required();
   cmd->add_option("--images", options->image_dir,
                   "the photos (default: where the run that made the model read them)");
+  cmd->add_flag("!--keep-principal-point", options->centre_principal_point,
+                "3dgs: keep each photo's principal point where it is and every pixel (for "
+                "trainers that read cx, cy) instead of cutting the photo around it");
   cmd->callback([options] { varsfm::RunExport(*options); });
 }
 

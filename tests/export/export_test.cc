@@ -25,13 +25,15 @@ using testing::TempDir;
 using testing::ZoomingModel;
 
 // The 3DGS layout: PINHOLE cameras that keep each image's focal, photos of the cameras' sizes,
-// and every observation where its 3D point projects through the pinhole camera.
+// and every observation where its 3D point projects through the pinhole camera (centred: the
+// capture's principal points lie 6 px off).
 TEST(GaussianSplattingExport, WritesPinholeModelAndUndistortedPhotos) {
   TempDir tmp("export_3dgs");
   const Reconstruction model = ZoomingModel();
   testing::WritePhotos(model, tmp.path() / "photos");
   const auto summary = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
   EXPECT_EQ(summary.num_images, model.NumRegisteredImages());
+  EXPECT_EQ(summary.num_centred, model.NumRegisteredImages());
   EXPECT_EQ(summary.num_off_centre, 0u);
 
   const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
@@ -61,20 +63,43 @@ TEST(GaussianSplattingExport, WritesPinholeModelAndUndistortedPhotos) {
   }
 }
 
-// A photo cropped off-centre keeps its principal point (the COLMAP model is exact) and is counted,
-// so that the command can warn those whose trainer ignores cx, cy.
-TEST(GaussianSplattingExport, CountsPhotosWithAnOffCentrePrincipalPoint) {
+// 3DGS' reference loader ignores cx, cy: each photo is cut around its principal point, which
+// then lies at its centre exactly; a photo cropped so far off-centre that centring would leave
+// less than half of it keeps its principal point (the COLMAP model is exact) and is counted, so
+// that the command can warn; so is every off-centre photo when asked to keep them.
+TEST(GaussianSplattingExport, CentresPrincipalPointsAndCountsThoseItCannot) {
   TempDir tmp("export_3dgs_off_centre");
   Reconstruction model = ZoomingModel();
-  const image_t cropped = model.RegisteredImageIds().front();
-  Camera& camera = model.camera(model.image(cropped).camera_id);
-  camera.params[Camera::kU0] -= 0.2 * camera.width;
+  const std::vector<image_t> ids = model.RegisteredImageIds();
+  const image_t shifted = ids[0], cropped = ids[1];
+  model.CameraOf(shifted).params[Camera::kU0] -= 0.2 * model.CameraOf(shifted).width;
+  model.CameraOf(cropped).params[Camera::kU0] -= 0.4 * model.CameraOf(cropped).width;
   testing::WritePhotos(model, tmp.path() / "photos");
+
   const auto summary = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
+  EXPECT_EQ(summary.num_centred, ids.size() - 1);
   EXPECT_EQ(summary.num_off_centre, 1u);
   const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
-  const Camera& pinhole = exported.CameraOf(cropped);
-  EXPECT_LT(pinhole.params[Camera::kU0], 0.4 * pinhole.width);
+  for (const image_t id : ids) {
+    const Camera& pinhole = exported.CameraOf(id);
+    if (id == cropped) {
+      EXPECT_LT(pinhole.params[Camera::kU0], 0.2 * pinhole.width);
+      continue;
+    }
+    EXPECT_EQ(pinhole.PrincipalPointOffset(), Eigen::Vector2d::Zero()) << id;
+    const cv::Mat photo = ReadImagePixels(tmp.path() / "gs" / "images" / exported.image(id).name);
+    EXPECT_EQ(photo.cols, pinhole.width);
+    EXPECT_EQ(photo.rows, pinhole.height);
+  }
+  // The shifted photo, centred, is narrower than with its principal point kept.
+  const auto kept = ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "kept",
+                                            PrincipalPointPlacement::kKept);
+  EXPECT_EQ(kept.num_centred, 0u);
+  EXPECT_EQ(kept.num_off_centre, 2u);
+  const Reconstruction kept_model = ReadColmapModel(tmp.path() / "kept" / "sparse" / "0");
+  EXPECT_LT(exported.CameraOf(shifted).width, kept_model.CameraOf(shifted).width);
+  EXPECT_LT(kept_model.CameraOf(shifted).params[Camera::kU0],
+            0.4 * kept_model.CameraOf(shifted).width);
 }
 
 // COLMAP itself reads the exported model (COLMAP is a test dependency; skipped without it).
@@ -243,6 +268,17 @@ TEST(ExportCommand, WritesBothFormatsAndRefusesAnOccupiedOutput) {
       0)
       << output;
   EXPECT_TRUE(fs::is_regular_file(tmp.path() / "gs" / "sparse" / "0" / "cameras.bin"));
+  // Principal points centred by default (the capture's lie 6 px off), kept on request.
+  ASSERT_EQ(testing::RunCommand(base + " " + q(tmp.path() / "gs_kept") + " --images " +
+                                    q(tmp.path() / "photos") + " --keep-principal-point",
+                                &output),
+            0)
+      << output;
+  for (const auto& [folder, centred] : {std::pair{"gs", true}, std::pair{"gs_kept", false}}) {
+    const Reconstruction exported = ReadColmapModel(tmp.path() / folder / "sparse" / "0");
+    for (const auto& [id, camera] : exported.cameras())
+      EXPECT_EQ(camera.PrincipalPointOffset().isZero(0.0), centred) << folder;
+  }
   ASSERT_EQ(testing::RunCommand(base + " " + q(tmp.path() / "ns") +
                                     " --format nerfstudio --images " + q(tmp.path() / "photos"),
                                 &output),

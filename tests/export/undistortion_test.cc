@@ -91,6 +91,53 @@ TEST(Undistortion, ImageShowsEachRaysColour) {
   EXPECT_LT(max_error, 4.0);
 }
 
+// Centred: the principal point at the exact centre, every pixel inside the photo, and the
+// rectangle as large as the principal point's nearer edge on each axis allows.
+TEST(Undistortion, CentredRectangleIsInsideThePhotoAroundThePrincipalPoint) {
+  Camera camera = DistortedCamera();
+  camera.params[Camera::kU0] += 40;  // well off-centre: the left side bounds the width
+  const Camera kept = UndistortedPinholeCamera(camera);
+  const Camera pinhole = UndistortedPinholeCamera(camera, PrincipalPointPlacement::kCentred);
+  EXPECT_EQ(pinhole.PrincipalPointOffset(), Eigen::Vector2d::Zero());
+  EXPECT_DOUBLE_EQ(pinhole.focal(), camera.focal());
+  EXPECT_LT(pinhole.width, kept.width - 40);
+  EXPECT_GT(pinhole.width, kept.width - 100);
+  const auto photo_pixel = [&](double x, double y) {
+    return camera.NormalizedToImage(pinhole.ImageToNormalized({x, y}));
+  };
+  bool x_tight = false, y_tight = false;
+  for (int i = 0; i <= 100; ++i) {
+    const double sx = pinhole.width * i / 100.0;
+    const double sy = pinhole.height * i / 100.0;
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(0, sy)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(pinhole.width, sy)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(sx, 0)));
+    EXPECT_TRUE(InsidePhoto(camera, photo_pixel(sx, pinhole.height)));
+    // One more pixel on both sides of an axis leaves the photo somewhere.
+    x_tight |= !InsidePhoto(camera, photo_pixel(-1.0, sy)) ||
+               !InsidePhoto(camera, photo_pixel(pinhole.width + 1.0, sy));
+    y_tight |= !InsidePhoto(camera, photo_pixel(sx, -1.0)) ||
+               !InsidePhoto(camera, photo_pixel(sx, pinhole.height + 1.0));
+  }
+  EXPECT_TRUE(x_tight && y_tight);
+  // The resampled photo shows each ray's colour there too.
+  const cv::Mat undistorted = UndistortImage(testing::RenderRayPattern(camera), camera, pinhole);
+  double max_error = 0;
+  for (int y = 2; y < pinhole.height - 2; ++y)
+    for (int x = 2; x < pinhole.width - 2; ++x)
+      max_error = std::max(
+          max_error, std::abs(undistorted.at<cv::Vec3b>(y, x)[1] -
+                              testing::RayPattern(pinhole.ImageToNormalized({x + 0.5, y + 0.5}))));
+  EXPECT_LT(max_error, 4.0);
+}
+
+TEST(Undistortion, CentringAPrincipalPointOutsideThePhotoFails) {
+  Camera camera = DistortedCamera();
+  camera.params[Camera::kU0] = -20;
+  EXPECT_THROW(UndistortedPinholeCamera(camera, PrincipalPointPlacement::kCentred), Error);
+  EXPECT_NO_THROW(UndistortedPinholeCamera(camera));
+}
+
 TEST(Undistortion, ImageOfAnotherSizeIsRefused) {
   const Camera camera = DistortedCamera();
   EXPECT_THROW(UndistortImage(cv::Mat(10, 10, CV_8UC3), camera, UndistortedPinholeCamera(camera)),

@@ -15,10 +15,25 @@
 
 namespace varsfm {
 
-Reconstruction UndistortReconstruction(const Reconstruction& reconstruction) {
+Camera ExportedPinholeCamera(const Camera& camera, PrincipalPointPlacement placement) {
+  const Camera kept = UndistortedPinholeCamera(camera, PrincipalPointPlacement::kKept);
+  if (placement == PrincipalPointPlacement::kKept) return kept;
+  try {
+    const Camera centred = UndistortedPinholeCamera(camera, PrincipalPointPlacement::kCentred);
+    if (static_cast<double>(centred.width) * centred.height >=
+        kMinCentredArea * static_cast<double>(kept.width) * kept.height)
+      return centred;
+  } catch (const Error&) {
+    // The principal point lies outside the photo or on its border: it stays where it is.
+  }
+  return kept;
+}
+
+Reconstruction UndistortReconstruction(const Reconstruction& reconstruction,
+                                       PrincipalPointPlacement placement) {
   Reconstruction undistorted = reconstruction;
   for (const auto& [camera_id, camera] : reconstruction.cameras()) {
-    undistorted.camera(camera_id) = UndistortedPinholeCamera(camera);
+    undistorted.camera(camera_id) = ExportedPinholeCamera(camera, placement);
   }
   for (const image_t image_id : reconstruction.RegisteredImageIds()) {
     const Camera& camera = reconstruction.CameraOf(image_id);
@@ -32,9 +47,10 @@ Reconstruction UndistortReconstruction(const Reconstruction& reconstruction) {
 
 GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& reconstruction,
                                                        const std::filesystem::path& image_dir,
-                                                       const std::filesystem::path& output) {
+                                                       const std::filesystem::path& output,
+                                                       PrincipalPointPlacement placement) {
   const std::vector<image_t> image_ids = ExportedImageIds(reconstruction, image_dir);
-  const Reconstruction undistorted = UndistortReconstruction(reconstruction);
+  const Reconstruction undistorted = UndistortReconstruction(reconstruction, placement);
   WriteNewFolder(output, [&](const std::filesystem::path& dir) {
     for (const image_t id : image_ids) {
       std::filesystem::create_directories(
@@ -61,9 +77,13 @@ GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& rec
     colmap.force_model_id = kColmapPinhole;
     WriteColmapModel(undistorted, dir / "sparse" / "0", colmap);
   });
-  GaussianSplattingExportSummary summary{image_ids.size(), reconstruction.points3D().size(), 0};
+  GaussianSplattingExportSummary summary;
+  summary.num_images = image_ids.size();
+  summary.num_points = reconstruction.points3D().size();
   for (const image_t id : image_ids) {
     const Camera& c = undistorted.CameraOf(id);
+    if (c.PrincipalPointOffset().isZero(0.0) && placement == PrincipalPointPlacement::kCentred)
+      ++summary.num_centred;
     if (c.PrincipalPointOffset().norm() > kOffCentrePrincipalPoint * std::max(c.width, c.height))
       ++summary.num_off_centre;
   }

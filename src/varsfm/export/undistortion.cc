@@ -24,7 +24,7 @@ Eigen::Vector2d IdealPixel(const Camera& camera, const Eigen::Vector2d& pixel) {
 
 }  // namespace
 
-Camera UndistortedPinholeCamera(const Camera& camera) {
+Camera UndistortedPinholeCamera(const Camera& camera, PrincipalPointPlacement placement) {
   // The rectangle inside the traced border: the innermost x of the left and right edges and the
   // innermost y of the top and bottom edges.
   double left = -std::numeric_limits<double>::infinity();
@@ -40,23 +40,32 @@ Camera UndistortedPinholeCamera(const Camera& camera) {
     top = std::max(top, IdealPixel(camera, {s * w, 0.0}).y());
     bottom = std::min(bottom, IdealPixel(camera, {s * w, h}).y());
   }
-  const double width = std::floor(right - left);
-  const double height = std::floor(bottom - top);
+  const double u0 = camera.params[Camera::kU0];
+  const double v0 = camera.params[Camera::kV0];
+  double width = std::floor(right - left);
+  double height = std::floor(bottom - top);
+  double cx = u0 - left, cy = v0 - top;
+  if (placement == PrincipalPointPlacement::kCentred) {
+    // The principal point keeps its place in the ideal image; the rectangle's sides move to it:
+    // the nearer of each pair of edges bounds both (the far side gives up what the near one
+    // lacks). The edges may then fall between pixels of the ideal image: the image is resampled.
+    width = std::floor(2.0 * std::min(u0 - left, right - u0));
+    height = std::floor(2.0 * std::min(v0 - top, bottom - v0));
+    cx = 0.5 * width;
+    cy = 0.5 * height;
+  }
   if (!(width >= 2 && height >= 2)) {
-    Fail("camera {}: its distortion (k1 {:.3g}, k2 {:.3g}) leaves no valid undistorted image",
-         camera.camera_id, camera.params[Camera::kK1], camera.params[Camera::kK2]);
+    Fail("camera {}: its distortion (k1 {:.3g}, k2 {:.3g}){} leaves no valid undistorted image",
+         camera.camera_id, camera.params[Camera::kK1], camera.params[Camera::kK2],
+         placement == PrincipalPointPlacement::kCentred
+             ? fmt::format(" and principal point ({:.1f}, {:.1f})", u0, v0)
+             : "");
   }
   Camera pinhole;
   pinhole.camera_id = camera.camera_id;
   pinhole.width = static_cast<int>(width);
   pinhole.height = static_cast<int>(height);
-  pinhole.params = {camera.focal(),
-                    camera.params[Camera::kAspect],
-                    0.0,
-                    camera.params[Camera::kU0] - left,
-                    camera.params[Camera::kV0] - top,
-                    0.0,
-                    0.0};
+  pinhole.params = {camera.focal(), camera.params[Camera::kAspect], 0.0, cx, cy, 0.0, 0.0};
   return pinhole;
 }
 

@@ -68,15 +68,27 @@ ExportSummary RunExport(const ExportOptions& options) {
   ExportSummary summary;
   if (options.format == ExportFormat::kGaussianSplatting) {
     const GaussianSplattingExportSummary s =
-        ExportGaussianSplatting(reconstruction, image_dir, options.output);
+        ExportGaussianSplatting(reconstruction, image_dir, options.output,
+                                options.centre_principal_point ? PrincipalPointPlacement::kCentred
+                                                               : PrincipalPointPlacement::kKept);
     summary.num_images = s.num_images;
     summary.num_points = s.num_points;
+    if (options.centre_principal_point)
+      info(
+          "export: {} of {} photos cut around their principal point, which lies at their centre "
+          "(3D Gaussian Splatting's loader assumes it there)",
+          s.num_centred, s.num_images);
     if (s.num_off_centre > 0)
       warn(
-          "export: {} of {} photos have their principal point more than {:.0f} % of the image "
-          "off its centre (cropped photos): 3D Gaussian Splatting's reference loader ignores cx, "
-          "cy and misplaces them; trainers that read cx, cy (gsplat, nerfstudio) do not",
-          s.num_off_centre, s.num_images, 100 * kOffCentrePrincipalPoint);
+          "export: {} of {} photos keep a principal point more than {:.0f} % of the image off its "
+          "centre ({}): 3D Gaussian Splatting's reference loader ignores cx, cy and misplaces "
+          "them; trainers that read cx, cy (gsplat, nerfstudio) do not",
+          s.num_off_centre, s.num_images, 100 * kOffCentrePrincipalPoint,
+          options.centre_principal_point
+              ? fmt::format("cropped far off-centre: centred, less than {:.0f} % of the photo "
+                            "would remain",
+                            100 * kMinCentredArea)
+              : "--keep-principal-point");
   } else {
     const NerfstudioExportSummary s = ExportNerfstudio(reconstruction, image_dir, options.output);
     summary.num_images = s.num_frames;

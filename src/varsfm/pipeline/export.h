@@ -27,6 +27,11 @@ struct ExportOptions {
   // (the "image_dir" of MODEL/summary.json).
   std::filesystem::path image_dir;
   std::filesystem::path output;  // created; must not exist or be empty
+  // 3dgs: each photo cut around its principal point so that it lies at the image centre, as 3D
+  // Gaussian Splatting's reference loader assumes (export/gaussian_splatting.h); false: kept
+  // where it is, every pixel of the undistorted photo kept (COLMAP image_undistorter's layout,
+  // for trainers that read cx, cy).
+  bool centre_principal_point = true;
 
   // Throws OptionError (util/option_check.h) for no model or no output path, varsfm::Error (one
   // line naming the folder) for a model or image folder that does not exist or an output that
