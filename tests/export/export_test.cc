@@ -232,6 +232,12 @@ TEST(ExportOptions, CheckRefusesBadValues) {
   EXPECT_THROW(options.Check(), Error);
   options.model = tmp.path();
   EXPECT_NO_THROW(options.Check());
+  options.centre_principal_point = false;  // --keep-principal-point: for 3dgs only
+  EXPECT_NO_THROW(options.Check());
+  options.format = ExportFormat::kNerfstudio;
+  EXPECT_THROW(options.Check(), OptionError);
+  options.centre_principal_point = true;
+  EXPECT_NO_THROW(options.Check());
   options.image_dir = tmp.path() / "no-photos";
   EXPECT_THROW(options.Check(), Error);
   options.image_dir.clear();

@@ -49,6 +49,10 @@ void ExportOptions::Check() const {
     Fail("--images {}: no such folder", image_dir.string());
   }
   if (output.empty()) FailOption("output", "a folder to create", "''");
+  if (format != ExportFormat::kGaussianSplatting && !centre_principal_point)
+    throw OptionError(
+        "--keep-principal-point: only for --format 3dgs (nerfstudio keeps every photo whole, "
+        "with its cx, cy)");
   std::error_code ec;
   if (std::filesystem::exists(output, ec) &&
       (!std::filesystem::is_directory(output, ec) || !std::filesystem::is_empty(output, ec))) {
