@@ -1,17 +1,21 @@
 #include <fstream>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include "export/scene.h"
+#include "support/heif_writer.h"
 #include "support/test_data.h"
 #include "varsfm/export/gaussian_splatting.h"
 #include "varsfm/export/nerfstudio.h"
 #include "varsfm/image/exif.h"
 #include "varsfm/image/image_file.h"
+#include "varsfm/image/jpeg_check.h"
 #include "varsfm/io/colmap_model.h"
 #include "varsfm/pipeline/export.h"
+#include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/new_folder.h"
 #include "varsfm/util/option_check.h"
@@ -100,6 +104,40 @@ TEST(GaussianSplattingExport, CentresPrincipalPointsAndCountsThoseItCannot) {
   EXPECT_LT(exported.CameraOf(shifted).width, kept_model.CameraOf(shifted).width);
   EXPECT_LT(kept_model.CameraOf(shifted).params[Camera::kU0],
             0.4 * kept_model.CameraOf(shifted).width);
+}
+
+// An iPhone's HEIC photos, which neither 3DGS' nor nerfstudio's loader opens: exported as JPEG
+// under their name with ".jpg" appended, and the model and transforms.json name those files.
+TEST(Export, HeicPhotosAreWrittenAsJpeg) {
+  TempDir tmp("export_heic");
+  Reconstruction model = ZoomingModel();
+  fs::create_directories(tmp.path() / "photos");
+  for (const auto& [id, image] : model.images()) {
+    model.image(id).name = "IMG_" + std::to_string(id) + ".HEIC";
+    const std::vector<uint8_t> heic =
+        testing::EncodeHeic(testing::RenderRayPattern(model.CameraOf(id)));
+    ASSERT_FALSE(heic.empty());
+    WriteBytesAtomically(tmp.path() / "photos" / model.image(id).name, heic);
+  }
+  ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
+  ExportNerfstudio(model, tmp.path() / "photos", tmp.path() / "ns");
+  const Reconstruction exported = ReadColmapModel(tmp.path() / "gs" / "sparse" / "0");
+  const nlohmann::json transforms =
+      nlohmann::json::parse(std::ifstream(tmp.path() / "ns" / "transforms.json"));
+  std::set<std::string> frame_files;
+  for (const auto& frame : transforms["frames"]) frame_files.insert(frame["file_path"]);
+  for (const auto& [id, image] : model.images()) {
+    const std::string jpeg_name = image.name + ".jpg";
+    EXPECT_EQ(exported.image(id).name, jpeg_name);
+    EXPECT_TRUE(frame_files.count("images/" + jpeg_name)) << jpeg_name;
+    for (const fs::path& file :
+         {tmp.path() / "gs" / "images" / jpeg_name, tmp.path() / "ns" / "images" / jpeg_name}) {
+      const std::vector<uint8_t> bytes = ReadImageFile(file);
+      EXPECT_TRUE(LooksLikeJpeg(bytes.data(), bytes.size())) << file;
+    }
+    EXPECT_EQ(ReadImagePixels(tmp.path() / "ns" / "images" / jpeg_name).size(),
+              cv::Size(model.CameraOf(id).width, model.CameraOf(id).height));
+  }
 }
 
 // COLMAP itself reads the exported model (COLMAP is a test dependency; skipped without it).

@@ -9,7 +9,9 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
+#include "support/heif_writer.h"
 #include "support/test_data.h"
 #include "varsfm/image/image_io.h"
 #include "varsfm/image/jpeg_codec.h"
@@ -40,11 +42,20 @@ class ExifWriter {
                       {numerator, denominator});
   }
 
-  // `jpeg` with the EXIF block right after the start-of-image marker.
-  std::vector<uint8_t> Insert(const std::vector<uchar>& jpeg) const {
+  // The EXIF block as libexif saves it: "Exif\0\0", then the TIFF data.
+  std::vector<uint8_t> Block() const {
     unsigned char* block = nullptr;
     unsigned int size = 0;
     exif_data_save_data(exif_, &block, &size);
+    std::vector<uint8_t> out(block, block + size);
+    std::free(block);
+    return out;
+  }
+
+  // `jpeg` with the EXIF block right after the start-of-image marker.
+  std::vector<uint8_t> Insert(const std::vector<uchar>& jpeg) const {
+    const std::vector<uint8_t> block = Block();
+    const size_t size = block.size();
     const unsigned length = size + 2;  // the segment length counts its own two bytes
     std::vector<uint8_t> out;
     out.reserve(jpeg.size() + size + 4);
@@ -53,9 +64,8 @@ class ExifWriter {
           static_cast<uint8_t>(length & 0xFF)}) {
       out.push_back(byte);
     }
-    out.insert(out.end(), block, block + size);
+    out.insert(out.end(), block.begin(), block.end());
     out.insert(out.end(), jpeg.begin() + 2, jpeg.end());
-    std::free(block);
     return out;
   }
 
@@ -152,6 +162,34 @@ TEST(ReadPhoto, AppliesExifOrientationAndReadsFocal) {
     ASSERT_TRUE(image.exif_focal_px.has_value());
     EXPECT_NEAR(*image.exif_focal_px, 35.0 * 200.0 / std::hypot(36.0, 24.0), 1e-9);
   }
+}
+
+// An iPhone's HEIC: the pixels stored sideways with HEIF's rotation property, the EXIF block
+// (a metadata item, not in the file's bytes for libexif to find) stating the same orientation.
+// Turned once (not again by the EXIF tag), focal length from the EXIF.
+TEST(ReadPhoto, ReadsAHeicsRotationOnceAndItsExifFocal) {
+  testing::TempDir dir("exif_heic");
+  ExifWriter exif;
+  exif.Short(EXIF_IFD_0, EXIF_TAG_ORIENTATION, 6);
+  exif.Short(EXIF_IFD_EXIF, EXIF_TAG_FOCAL_LENGTH_IN_35MM_FILM, 26);
+  cv::Mat stored(120, 160, CV_8UC3);
+  for (int y = 0; y < stored.rows; ++y)
+    for (int x = 0; x < stored.cols; ++x)
+      stored.at<cv::Vec3b>(y, x) = {static_cast<uint8_t>(x), static_cast<uint8_t>(2 * y), 90};
+  const std::vector<uint8_t> heic = testing::EncodeHeic(stored, 90, 6, exif.Block());
+  ASSERT_FALSE(heic.empty());
+  const fs::path path = WriteFile(dir.path() / "IMG_0001.HEIC", heic);
+  const Photo image = ReadPhoto(path, ColorMode::kColor);
+  ASSERT_EQ(image.width(), 120);
+  ASSERT_EQ(image.height(), 160);
+  cv::Mat upright;
+  cv::rotate(stored, upright, cv::ROTATE_90_CLOCKWISE);
+  EXPECT_LT(cv::norm(image.pixels, upright, cv::NORM_L1) / upright.total() / 3, 3.0);
+  ASSERT_TRUE(image.exif_focal_px.has_value());
+  EXPECT_NEAR(*image.exif_focal_px, 26.0 * 200.0 / std::hypot(36.0, 24.0), 1e-9);
+  // Without an EXIF block: no focal prior (the file's bytes are not searched for one).
+  const fs::path bare = WriteFile(dir.path() / "bare.heic", testing::EncodeHeic(stored));
+  EXPECT_FALSE(ReadPhoto(bare, ColorMode::kGray).exif_focal_px.has_value());
 }
 
 // Real camera EXIF: the Sceaux photographs (Kodak) against their calibrated focal length.

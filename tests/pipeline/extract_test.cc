@@ -636,13 +636,13 @@ TEST_F(ExtractBadInput, EmptyFolder) {
   ExpectFailure("--images " + ShellQuote(dir_.path() / "empty"), "empty");
 }
 
-// Photos in formats varsfm does not decode (an iPhone's HEIC, AVIF) are named in a warning, not
-// dropped in silence.
+// Photos in formats varsfm does not decode (a camera's raw files, GIF) are named in a warning,
+// not dropped in silence.
 TEST_F(ExtractBadInput, PhotosOfUnreadFormatsAreNamed) {
   const fs::path phone = dir_.path() / "phone";
   fs::create_directories(phone);
-  std::ofstream(phone / "IMG_0001.HEIC") << "heic";
-  std::ofstream(phone / "b.avif") << "avif";
+  std::ofstream(phone / "IMG_0001.DNG") << "raw";
+  std::ofstream(phone / "b.gif") << "gif";
   ExpectFailure("--images " + ShellQuote(phone), "no image files");
   EXPECT_NE(out_.find("skipping 2 photo(s) in a format varsfm does not read"), std::string::npos)
       << out_;

@@ -1,5 +1,9 @@
 #include "varsfm/export/exported_images.h"
 
+#include <algorithm>
+#include <array>
+
+#include "varsfm/image/image_file.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -13,6 +17,15 @@ std::vector<image_t> ExportedImageIds(const Reconstruction& reconstruction,
     if (!std::filesystem::is_regular_file(photo)) Fail("{}: no such photo", photo.string());
   }
   return image_ids;
+}
+
+std::string ExportedPhotoName(const std::string& name) {
+  static constexpr std::array<const char*, 3> kUnreadByTrainers = {".heic", ".heif", ".avif"};
+  const std::string extension = LowerCaseExtension(name);
+  return std::find(kUnreadByTrainers.begin(), kUnreadByTrainers.end(), extension) !=
+                 kUnreadByTrainers.end()
+             ? name + ".jpg"
+             : name;
 }
 
 }  // namespace varsfm

@@ -50,11 +50,13 @@ GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& rec
                                                        const std::filesystem::path& output,
                                                        PrincipalPointPlacement placement) {
   const std::vector<image_t> image_ids = ExportedImageIds(reconstruction, image_dir);
-  const Reconstruction undistorted = UndistortReconstruction(reconstruction, placement);
+  Reconstruction undistorted = UndistortReconstruction(reconstruction, placement);
+  for (const image_t id : image_ids)
+    undistorted.image(id).name = ExportedPhotoName(reconstruction.image(id).name);
   WriteNewFolder(output, [&](const std::filesystem::path& dir) {
     for (const image_t id : image_ids) {
       std::filesystem::create_directories(
-          (dir / "images" / reconstruction.image(id).name).parent_path());
+          (dir / "images" / undistorted.image(id).name).parent_path());
     }
     // Images are independent; the first error (a photo that cannot be read) is rethrown.
     std::vector<std::string> errors(image_ids.size());
@@ -64,7 +66,7 @@ GaussianSplattingExportSummary ExportGaussianSplatting(const Reconstruction& rec
         const cv::Mat photo = ReadImagePixels(image_dir / image.name, ColorMode::kColor);
         const cv::Mat pixels = UndistortImage(photo, reconstruction.CameraOf(image.image_id),
                                               undistorted.CameraOf(image.image_id));
-        WriteImage(dir / "images" / image.name, pixels);
+        WriteImage(dir / "images" / undistorted.image(image.image_id).name, pixels);
       } catch (const Error& e) {
         errors[i] = fmt::format("{}: {}", reconstruction.image(image_ids[i]).name, e.what());
       }

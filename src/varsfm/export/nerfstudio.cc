@@ -34,7 +34,7 @@ nlohmann::json NerfstudioTransforms(const Reconstruction& reconstruction) {
     for (int r = 0; r < 4; ++r) {
       matrix.push_back({c2w(r, 0), c2w(r, 1), c2w(r, 2), c2w(r, 3)});
     }
-    frames.push_back({{"file_path", "images/" + image.name},
+    frames.push_back({{"file_path", "images/" + ExportedPhotoName(image.name)},
                       {"transform_matrix", matrix},
                       {"colmap_im_id", id},
                       {"fl_x", camera.focal()},
@@ -65,15 +65,17 @@ NerfstudioExportSummary ExportNerfstudio(const Reconstruction& reconstruction,
   WriteNewFolder(output, [&](const std::filesystem::path& dir) {
     for (const image_t id : image_ids) {
       const std::string& name = reconstruction.image(id).name;
-      std::filesystem::create_directories((dir / "images" / name).parent_path());
+      const std::filesystem::path written = dir / "images" / ExportedPhotoName(name);
+      std::filesystem::create_directories(written.parent_path());
       // The model's cameras are those of the upright pixels (EXIF orientation applied), which
       // nerfstudio's loader does not apply: a photo stored turned or mirrored is written upright
-      // (re-encoded, its EXIF dropped); the others are copied as they are.
+      // (re-encoded, its EXIF dropped), as is one in a format it does not read; the others are
+      // copied as they are.
       const std::vector<uint8_t> bytes = ReadImageFile(image_dir / name);
-      if (ExifOrientation(bytes.data(), bytes.size()) == 1)
-        WriteBytesAtomically(dir / "images" / name, bytes);
+      if (ExportedPhotoName(name) == name && ExifOrientation(bytes.data(), bytes.size()) == 1)
+        WriteBytesAtomically(written, bytes);
       else
-        WriteImage(dir / "images" / name, DecodeImage(image_dir / name, bytes, ColorMode::kColor));
+        WriteImage(written, DecodeImage(image_dir / name, bytes, ColorMode::kColor));
     }
     WritePly(reconstruction, dir / "sparse_pc.ply");
     WriteJsonAtomically(dir / "transforms.json", transforms);

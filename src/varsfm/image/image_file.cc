@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "varsfm/image/exif.h"
+#include "varsfm/image/heif_codec.h"
 #include "varsfm/image/jpeg_check.h"
 #include "varsfm/image/jpeg_codec.h"
 #include "varsfm/image/opencv_io_plugin.h"
@@ -106,10 +107,13 @@ cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t
       exif.insert(exif.begin(), kExifHeader, kExifHeader + sizeof(kExifHeader));
       orientation = ExifOrientation(exif.data(), exif.size());
     }
+  } else if (LooksLikeHeif(bytes.data(), bytes.size())) {
+    direct = DecodeHeif(path, bytes.data(), bytes.size(), mode);  // upright as decoded
   }
   cv::Mat pixels;
   if (direct) {
     // As cv::imread: the EXIF orientation (JPEG APP1, PNG eXIf chunk) turns the image upright.
+    // (HEIF's own transformations are applied by its decoder.)
     pixels = std::move(*direct);
     if (!pixels.empty()) ApplyExifOrientation(orientation, &pixels);
   } else {

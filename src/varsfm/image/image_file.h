@@ -1,10 +1,11 @@
 #pragma once
 // Reading and writing image files, pixels only. JPEG and PNG, nearly everything varsfm reads and
 // writes, are decoded and encoded directly (jpeg_codec.h with libjpeg-turbo, png_codec.h with
-// libpng), giving the same pixels and files as OpenCV's imgcodecs did; every other format (TIFF,
-// BMP, WebP, PNM, ...) goes through the OpenCV I/O plug-in (opencv_io_plugin.h), loaded on
-// first use. This keeps imgcodecs and videoio, and the ~210 shared libraries they pull in (GDAL,
-// GStreamer, FFmpeg, ...), out of every start of the varsfm binary.
+// libpng), giving the same pixels and files as OpenCV's imgcodecs did; HEIF (HEIC, AVIF), which
+// OpenCV does not read, is decoded with libheif (heif_codec.h); every other format (TIFF, BMP,
+// WebP, PNM, ...) goes through the OpenCV I/O plug-in (opencv_io_plugin.h), loaded on first use.
+// This keeps imgcodecs and videoio, and the ~210 shared libraries they pull in (GDAL, GStreamer,
+// FFmpeg, ...), out of every start of the varsfm binary.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -26,10 +27,10 @@ std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path);
 
 // Decodes the contents `bytes` of image file `path` (named in errors) into the pixels
 // cv::imread(IMREAD_GRAYSCALE / IMREAD_COLOR) gave: 8-bit, 1 or 3 (BGR) channels, upright
-// (EXIF orientation applied). Throws varsfm::Error (one line naming the file) when it is not a
-// decodable image, is a truncated JPEG (which libjpeg would silently grey-fill), declares more
-// than kMaxImagePixels (or a PNG more than its data can hold), or needs the OpenCV I/O plug-in
-// and that cannot be loaded.
+// (EXIF orientation applied; HEIF's own rotation and mirror). Throws varsfm::Error (one line naming
+// the file) when it is not a decodable image, is a truncated JPEG (which libjpeg would silently
+// grey-fill), declares more than kMaxImagePixels (or a PNG more than its data can hold), or needs
+// the OpenCV I/O plug-in and that cannot be loaded.
 cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
                     ColorMode mode);
 

@@ -1,6 +1,7 @@
 #include "varsfm/image/image_io.h"
 
 #include "varsfm/image/exif.h"
+#include "varsfm/image/heif_codec.h"
 
 namespace varsfm {
 
@@ -9,8 +10,13 @@ Photo ReadPhoto(const std::filesystem::path& path, ColorMode mode) {
   const std::vector<uint8_t> bytes = ReadImageFile(path);
   Photo image;
   image.pixels = DecodeImage(path, bytes, mode);
+  // A HEIF file keeps its EXIF in a metadata item, which libexif cannot find in the file.
+  const std::vector<uint8_t> heif_exif = LooksLikeHeif(bytes.data(), bytes.size())
+                                             ? HeifExif(bytes.data(), bytes.size())
+                                             : std::vector<uint8_t>{};
+  const std::vector<uint8_t>& exif = heif_exif.empty() ? bytes : heif_exif;
   image.exif_focal_px =
-      ExifFocalLengthPixels(bytes.data(), bytes.size(), image.width(), image.height());
+      ExifFocalLengthPixels(exif.data(), exif.size(), image.width(), image.height());
   return image;
 }
 

@@ -50,13 +50,12 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
   return names;
 }
 
-// Photo formats of cameras and phones that varsfm does not decode (HEIF is the iPhone's default;
-// camera raw files; GIF, AVIF, 1-bit PBM): skipped like any other file, but named in a warning,
-// since a user who gave them meant them as photos.
+// Photo formats of cameras and phones that varsfm does not decode (camera raw files; GIF, 1-bit
+// PBM): skipped like any other file, but named in a warning, since a user who gave them meant
+// them as photos.
 bool IsUnreadablePhotoFormat(const fs::path& path) {
-  static constexpr std::array<const char*, 12> kExtensions = {".heic", ".heif", ".gif", ".avif",
-                                                              ".pbm",  ".dng",  ".cr2", ".cr3",
-                                                              ".nef",  ".arw",  ".raf", ".orf"};
+  static constexpr std::array<const char*, 9> kExtensions = {".gif", ".pbm", ".dng", ".cr2", ".cr3",
+                                                             ".nef", ".arw", ".raf", ".orf"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
@@ -64,11 +63,11 @@ bool IsUnreadablePhotoFormat(const fs::path& path) {
 }  // namespace
 
 bool HasImageExtension(const fs::path& path) {
-  // JPEG and PNG are decoded directly, the others by OpenCV's image codecs through the I/O
-  // plug-in (image_file.h).
-  static constexpr std::array<const char*, 13> kExtensions = {
-      ".jpg",  ".jpeg", ".jpe", ".png", ".tif", ".tiff", ".bmp",
-      ".webp", ".jp2",  ".j2k", ".pnm", ".ppm", ".pgm"};
+  // JPEG, PNG and HEIF (HEIC, AVIF) are decoded directly, the others by OpenCV's image codecs
+  // through the I/O plug-in (image_file.h).
+  static constexpr std::array<const char*, 16> kExtensions = {
+      ".jpg",  ".jpeg", ".jpe",  ".png", ".heic", ".heif", ".avif", ".tif",
+      ".tiff", ".bmp",  ".webp", ".jp2", ".j2k",  ".pnm",  ".ppm",  ".pgm"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
