@@ -103,7 +103,7 @@ TEST(Undistortion, PixelsMoveToThePinholeProjection) {
 
 TEST(Undistortion, ImageShowsEachRaysColour) {
   const Camera camera = DistortedCamera();
-  // Bilinear interpolation of the pattern plus rounding; a half-pixel shift would be ~15.
+  // Interpolation of the pattern plus rounding; a half-pixel shift would be ~15.
   EXPECT_LT(MaxRayColourError(camera, UndistortedPinholeCamera(camera)), 4.0);
 }
 

@@ -31,7 +31,7 @@ Camera UndistortedPinholeCamera(const Camera& camera,
 Eigen::Vector2d UndistortPixel(const Camera& camera, const Camera& pinhole,
                                const Eigen::Vector2d& pixel);
 
-// Resamples `image` (any channel count, 8-bit) to `pinhole`'s size by bilinear interpolation:
+// Resamples `image` (any channel count, 8-bit) to `pinhole`'s size by bicubic interpolation:
 // each output pixel centre is mapped through the pinhole to the ray it sees and then through
 // `camera`'s full model into the photo.
 cv::Mat UndistortImage(const cv::Mat& image, const Camera& camera, const Camera& pinhole);
