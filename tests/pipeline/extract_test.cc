@@ -636,15 +636,19 @@ TEST_F(ExtractBadInput, EmptyFolder) {
   ExpectFailure("--images " + ShellQuote(dir_.path() / "empty"), "empty");
 }
 
-// Photos in formats varsfm does not decode (a camera's raw files, GIF) are named in a warning,
-// not dropped in silence.
+// Photos in formats varsfm does not decode (a camera's raw files, GIF) and videos are named in a
+// warning, not dropped in silence.
 TEST_F(ExtractBadInput, PhotosOfUnreadFormatsAreNamed) {
   const fs::path phone = dir_.path() / "phone";
   fs::create_directories(phone);
   std::ofstream(phone / "IMG_0001.DNG") << "raw";
   std::ofstream(phone / "b.gif") << "gif";
+  std::ofstream(phone / "IMG_0002.MOV") << "video";  // a phone's camera roll has videos too
   ExpectFailure("--images " + ShellQuote(phone), "no image files");
   EXPECT_NE(out_.find("skipping 2 photo(s) in a format varsfm does not read"), std::string::npos)
+      << out_;
+  EXPECT_NE(out_.find("skipping 1 video(s) among the photos (e.g. IMG_0002.MOV)"),
+            std::string::npos)
       << out_;
 }
 

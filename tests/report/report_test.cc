@@ -151,6 +151,9 @@ TEST(ReportData, AnUnreadablePhotoIsListedAsNotExtractedWithoutAThumbnailWarning
   TempDir tmp("report_data_unreadable");
   WriteSyntheticOutput(tmp.path());
   std::ofstream(tmp.path() / "images" / "zz_broken.jpg") << "not a photo";
+  // Files extraction skipped and named already: not named again by the report.
+  std::ofstream(tmp.path() / "images" / "IMG_0002.MOV") << "a video";
+  std::ofstream(tmp.path() / "images" / "IMG_0003.DNG") << "a raw photo";
   std::ostringstream log;
   const auto previous = spdlog::default_logger();
   spdlog::set_default_logger(std::make_shared<spdlog::logger>(
@@ -163,6 +166,7 @@ TEST(ReportData, AnUnreadablePhotoIsListedAsNotExtractedWithoutAThumbnailWarning
       << data.images.back().failure;
   EXPECT_TRUE(data.images.back().thumbnail.empty());
   EXPECT_EQ(log.str().find("thumbnails"), std::string::npos) << log.str();
+  EXPECT_EQ(log.str().find("skipping"), std::string::npos) << log.str();
 
   // A photo of the model that has gone is named.
   std::filesystem::remove(tmp.path() / "images" / data.images.front().name);

@@ -21,6 +21,20 @@ bool IsWithin(const fs::path& path, const fs::path& ancestor) {
   return end == ancestor.end();
 }
 
+// What a listing says about the files it skips: logged (a stage reading the photos), or not (a
+// second listing of the same folder, whose lines the user has seen).
+struct SkipNotes {
+  ListingNotes mode;
+  template <typename... Args>
+  void Warn(fmt::format_string<Args...> format, Args&&... args) const {
+    if (mode == ListingNotes::kLogged) warn(format, std::forward<Args>(args)...);
+  }
+  template <typename... Args>
+  void Info(fmt::format_string<Args...> format, Args&&... args) const {
+    if (mode == ListingNotes::kLogged) info(format, std::forward<Args>(args)...);
+  }
+};
+
 // An image file found while listing: its name in the folder and the file it is (links resolved).
 struct FoundImage {
   std::string name;
@@ -30,7 +44,8 @@ struct FoundImage {
 // Keeps one name per file: several names for one file (a link to a photo of the set, a folder
 // linked twice) are one photo, and extracting it twice would give two images of one view with
 // identical features. The name that is not a link wins, else the first by name.
-std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs::path& root) {
+std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs::path& root,
+                                        const SkipNotes& notes) {
   std::sort(found.begin(), found.end(),
             [](const FoundImage& a, const FoundImage& b) { return a.name < b.name; });
   std::map<fs::path, const FoundImage*> kept;
@@ -44,7 +59,7 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
     if (chosen == &image) {
       names.push_back(image.name);
     } else {
-      warn("skipping {}: a link to {}, the same photo", image.name, chosen->name);
+      notes.Warn("skipping {}: a link to {}, the same photo", image.name, chosen->name);
     }
   }
   return names;
@@ -56,6 +71,16 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
 bool IsUnreadablePhotoFormat(const fs::path& path) {
   static constexpr std::array<const char*, 9> kExtensions = {".gif", ".pbm", ".dng", ".cr2", ".cr3",
                                                              ".nef", ".arw", ".raf", ".orf"};
+  const std::string ext = LowerCaseExtension(path);
+  return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
+}
+
+// Videos, which a phone's camera roll holds among its photos: read on their own (`run VIDEO`,
+// `extract --video`), so skipped here but named, rather than dropped in silence.
+bool IsVideoFile(const fs::path& path) {
+  static constexpr std::array<const char*, 12> kExtensions = {".mov", ".mp4",  ".m4v", ".avi",
+                                                              ".mkv", ".webm", ".mts", ".m2ts",
+                                                              ".3gp", ".wmv",  ".mpg", ".mpeg"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
@@ -72,7 +97,8 @@ bool HasImageExtension(const fs::path& path) {
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
 
-std::vector<std::string> ListImages(const fs::path& dir) {
+std::vector<std::string> ListImages(const fs::path& dir, ListingNotes mode) {
+  const SkipNotes notes{mode};
   std::error_code ec;
   if (!fs::exists(dir, ec)) Fail("image folder {} does not exist", dir.string());
   if (!fs::is_directory(dir, ec)) Fail("{} is not a folder", dir.string());
@@ -81,7 +107,8 @@ std::vector<std::string> ListImages(const fs::path& dir) {
 
   std::vector<FoundImage> found;
   std::vector<std::string> unreadable;  // photos in formats varsfm does not read
-  std::vector<std::string> hidden;      // hidden folders and hidden image files, for one line
+  std::vector<std::string> videos;
+  std::vector<std::string> hidden;  // hidden folders and hidden image files, for one line
   fs::recursive_directory_iterator it(dir, fs::directory_options::follow_directory_symlink, ec);
   if (ec) Fail("cannot list image folder {}: {}", dir.string(), ec.message());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
@@ -108,38 +135,45 @@ std::vector<std::string> ListImages(const fs::path& dir) {
       std::error_code parent_ec;
       const fs::path parent = fs::canonical(it->path().parent_path(), parent_ec);
       if (!status_ec && !parent_ec && IsWithin(parent, folder)) {
-        warn("skipping {}/: a link to folder {} that contains it (a loop)", name, folder.string());
+        notes.Warn("skipping {}/: a link to folder {} that contains it (a loop)", name,
+                   folder.string());
         it.disable_recursion_pending();
       }
       continue;
     }
     if (!HasImageExtension(it->path())) {
       if (IsUnreadablePhotoFormat(it->path())) unreadable.push_back(name);
+      if (IsVideoFile(it->path())) videos.push_back(name);
       continue;
     }
     const bool is_file = it->is_regular_file(status_ec);
     if (status_ec) {
       const bool loop = status_ec == std::errc::too_many_symbolic_link_levels;
-      warn("skipping {}: {}", name, loop ? "a link loop" : "a link to a missing file");
+      notes.Warn("skipping {}: {}", name, loop ? "a link loop" : "a link to a missing file");
       continue;
     }
     if (!is_file) continue;
     fs::path file = fs::canonical(it->path(), status_ec);
     if (status_ec) {
-      warn("skipping {}: {}", name, status_ec.message());
+      notes.Warn("skipping {}: {}", name, status_ec.message());
       continue;
     }
     found.push_back({name, std::move(file)});
   }
   if (!hidden.empty())
-    info("skipping {} hidden file(s) or folder(s) (names starting with '.', e.g. {})",
-         hidden.size(), hidden.front());
+    notes.Info("skipping {} hidden file(s) or folder(s) (names starting with '.', e.g. {})",
+               hidden.size(), hidden.front());
   if (!unreadable.empty())
-    warn(
+    notes.Warn(
         "skipping {} photo(s) in a format varsfm does not read (e.g. {}): convert them to JPEG or "
         "PNG",
         unreadable.size(), unreadable.front());
-  return OneNamePerFile(std::move(found), root);
+  if (!videos.empty())
+    notes.Warn(
+        "skipping {} video(s) among the photos (e.g. {}): a video is read on its own "
+        "(varsfm run VIDEO OUT)",
+        videos.size(), videos.front());
+  return OneNamePerFile(std::move(found), root, notes);
 }
 
 }  // namespace varsfm

@@ -160,7 +160,7 @@ bool AddWorkspace(const fs::path& database, ReportData* data,
 void AddUnextractedPhotos(const fs::path& image_dir, std::vector<ReportImage>* images) {
   std::vector<std::string> names;
   try {
-    names = ListImages(image_dir);
+    names = ListImages(image_dir, ListingNotes::kQuiet);  // extraction named what it skipped
   } catch (const Error&) {
     return;
   }
