@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "export/scene.h"
+#include "support/dng_writer.h"
 #include "support/heif_writer.h"
 #include "support/test_data.h"
 #include "varsfm/export/gaussian_splatting.h"
@@ -106,18 +107,20 @@ TEST(GaussianSplattingExport, CentresPrincipalPointsAndCountsThoseItCannot) {
             0.4 * kept_model.CameraOf(shifted).width);
 }
 
-// An iPhone's HEIC photos, which neither 3DGS' nor nerfstudio's loader opens: exported as JPEG
-// under their name with ".jpg" appended, and the model and transforms.json name those files.
-TEST(Export, HeicPhotosAreWrittenAsJpeg) {
+// An iPhone's HEIC photos and a camera's raw files, which neither 3DGS' nor nerfstudio's loader
+// opens: exported as JPEG under their name with ".jpg" appended, and the model and
+// transforms.json name those files.
+TEST(Export, HeicAndRawPhotosAreWrittenAsJpeg) {
   TempDir tmp("export_heic");
   Reconstruction model = ZoomingModel();
   fs::create_directories(tmp.path() / "photos");
   for (const auto& [id, image] : model.images()) {
-    model.image(id).name = "IMG_" + std::to_string(id) + ".HEIC";
-    const std::vector<uint8_t> heic =
-        testing::EncodeHeic(testing::RenderRayPattern(model.CameraOf(id)));
-    ASSERT_FALSE(heic.empty());
-    WriteBytesAtomically(tmp.path() / "photos" / model.image(id).name, heic);
+    const cv::Mat photo = testing::RenderRayPattern(model.CameraOf(id));
+    const bool raw = id % 2 == 0;
+    model.image(id).name = "IMG_" + std::to_string(id) + (raw ? ".DNG" : ".HEIC");
+    const std::vector<uint8_t> bytes = raw ? testing::EncodeDng(photo) : testing::EncodeHeic(photo);
+    ASSERT_FALSE(bytes.empty());
+    WriteBytesAtomically(tmp.path() / "photos" / model.image(id).name, bytes);
   }
   ExportGaussianSplatting(model, tmp.path() / "photos", tmp.path() / "gs");
   ExportNerfstudio(model, tmp.path() / "photos", tmp.path() / "ns");

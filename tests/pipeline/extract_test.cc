@@ -636,12 +636,12 @@ TEST_F(ExtractBadInput, EmptyFolder) {
   ExpectFailure("--images " + ShellQuote(dir_.path() / "empty"), "empty");
 }
 
-// Photos in formats varsfm does not decode (a camera's raw files, GIF) and videos are named in a
+// Pictures in formats varsfm does not decode (GIF, 1-bit PBM) and videos are named in a
 // warning, not dropped in silence.
 TEST_F(ExtractBadInput, PhotosOfUnreadFormatsAreNamed) {
   const fs::path phone = dir_.path() / "phone";
   fs::create_directories(phone);
-  std::ofstream(phone / "IMG_0001.DNG") << "raw";
+  std::ofstream(phone / "a.pbm") << "P1";
   std::ofstream(phone / "b.gif") << "gif";
   std::ofstream(phone / "IMG_0002.MOV") << "video";  // a phone's camera roll has videos too
   ExpectFailure("--images " + ShellQuote(phone), "no image files");

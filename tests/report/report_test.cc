@@ -153,7 +153,7 @@ TEST(ReportData, AnUnreadablePhotoIsListedAsNotExtractedWithoutAThumbnailWarning
   std::ofstream(tmp.path() / "images" / "zz_broken.jpg") << "not a photo";
   // Files extraction skipped and named already: not named again by the report.
   std::ofstream(tmp.path() / "images" / "IMG_0002.MOV") << "a video";
-  std::ofstream(tmp.path() / "images" / "IMG_0003.DNG") << "a raw photo";
+  std::ofstream(tmp.path() / "images" / "IMG_0003.gif") << "a GIF";
   std::ostringstream log;
   const auto previous = spdlog::default_logger();
   spdlog::set_default_logger(std::make_shared<spdlog::logger>(

@@ -4,6 +4,7 @@
 #include <array>
 
 #include "varsfm/image/image_file.h"
+#include "varsfm/image/raw_codec.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -22,10 +23,10 @@ std::vector<image_t> ExportedImageIds(const Reconstruction& reconstruction,
 std::string ExportedPhotoName(const std::string& name) {
   static constexpr std::array<const char*, 3> kUnreadByTrainers = {".heic", ".heif", ".avif"};
   const std::string extension = LowerCaseExtension(name);
-  return std::find(kUnreadByTrainers.begin(), kUnreadByTrainers.end(), extension) !=
-                 kUnreadByTrainers.end()
-             ? name + ".jpg"
-             : name;
+  const bool unread = IsRawPhotoName(name) ||
+                      std::find(kUnreadByTrainers.begin(), kUnreadByTrainers.end(), extension) !=
+                          kUnreadByTrainers.end();
+  return unread ? name + ".jpg" : name;
 }
 
 }  // namespace varsfm

@@ -15,9 +15,9 @@ std::vector<image_t> ExportedImageIds(const Reconstruction& reconstruction,
                                       const std::filesystem::path& image_dir);
 
 // The name a photo is exported under: its own, or, for a format the trainers' loaders do not
-// read without plug-ins (HEIF: HEIC, the iPhone's, and AVIF; PIL and OpenCV open neither), its
-// name with ".jpg" appended (IMG_0001.HEIC.jpg: no clash with an IMG_0001.jpg beside it). Such a
-// photo is re-encoded as JPEG.
+// read without plug-ins (HEIF: HEIC, the iPhone's, and AVIF; camera raw files; PIL and OpenCV
+// open none), its name with ".jpg" appended (IMG_0001.HEIC.jpg: no clash with an IMG_0001.jpg
+// beside it). Such a photo is re-encoded as JPEG, developed.
 std::string ExportedPhotoName(const std::string& name);
 
 }  // namespace varsfm

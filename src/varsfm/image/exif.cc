@@ -64,6 +64,14 @@ std::optional<double> ResolutionUnitMm(ExifData* data) {
   return std::nullopt;
 }
 
+// Rejects nonsense (a field of view wider than ~175 or narrower than ~0.5 degrees): such values
+// come from broken or placeholder tags and would mislead the calibration.
+std::optional<double> PlausibleFocal(double focal_px, int width, int height) {
+  const double max_size = std::max(width, height);
+  if (!(focal_px >= 0.05 * max_size && focal_px <= 100.0 * max_size)) return std::nullopt;
+  return focal_px;
+}
+
 }  // namespace
 
 int ExifOrientation(const uint8_t* data, size_t size) {
@@ -83,6 +91,11 @@ int ExifOrientation(const uint8_t* data, size_t size) {
   return orientation >= 1 && orientation <= 8 ? orientation : 1;
 }
 
+std::optional<double> FocalPixelsFrom35mmEquivalent(double f35_mm, int width, int height) {
+  if (!(f35_mm > 0) || width <= 0 || height <= 0) return std::nullopt;
+  return PlausibleFocal(f35_mm * std::hypot(width, height) / std::hypot(36.0, 24.0), width, height);
+}
+
 std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, int width,
                                             int height) {
   if (data == nullptr || size == 0 || width <= 0 || height <= 0) return std::nullopt;
@@ -92,7 +105,7 @@ std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, in
   const double max_size = std::max(width, height);
   std::optional<double> focal_px;
   if (const auto f35 = ReadNumber(exif.get(), EXIF_TAG_FOCAL_LENGTH_IN_35MM_FILM)) {
-    focal_px = *f35 * std::hypot(width, height) / std::hypot(36.0, 24.0);
+    return FocalPixelsFrom35mmEquivalent(*f35, width, height);
   } else if (const auto f_mm = ReadNumber(exif.get(), EXIF_TAG_FOCAL_LENGTH)) {
     const auto x_resolution = ReadNumber(exif.get(), EXIF_TAG_FOCAL_PLANE_X_RESOLUTION);
     const auto unit_mm = ResolutionUnitMm(exif.get());
@@ -106,11 +119,7 @@ std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, in
       focal_px = *f_mm * (*x_resolution / *unit_mm) * resize;
     }
   }
-  // Reject nonsense (a field of view wider than ~175 or narrower than ~0.5 degrees): such
-  // values come from broken or placeholder tags and would mislead the calibration.
-  if (focal_px && (*focal_px < 0.05 * max_size || *focal_px > 100.0 * max_size))
-    return std::nullopt;
-  return focal_px;
+  return focal_px ? PlausibleFocal(*focal_px, width, height) : std::nullopt;
 }
 
 }  // namespace varsfm

@@ -19,6 +19,10 @@ namespace varsfm {
 std::optional<double> ExifFocalLengthPixels(const uint8_t* data, size_t size, int width,
                                             int height);
 
+// Rule 1 above on its own: the focal length in pixels of a `width` x `height` image whose
+// 35 mm film equivalent is `f35_mm`; nothing for a non-positive or implausible value.
+std::optional<double> FocalPixelsFrom35mmEquivalent(double f35_mm, int width, int height);
+
 // The Orientation tag (TIFF/EXIF 0x0112, IFD0) of the EXIF block of `data` (a whole JPEG file,
 // or EXIF data starting with the "Exif\0\0" header): 1 (upright, also when absent or invalid)
 // to 8; see ApplyExifOrientation in image/orientation.h.

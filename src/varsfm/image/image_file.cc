@@ -15,6 +15,7 @@
 #include "varsfm/image/opencv_io_plugin.h"
 #include "varsfm/image/orientation.h"
 #include "varsfm/image/png_codec.h"
+#include "varsfm/image/raw_codec.h"
 #include "varsfm/util/atomic_file.h"
 #include "varsfm/util/error.h"
 
@@ -107,13 +108,15 @@ cv::Mat DecodeImage(const std::filesystem::path& path, const std::vector<uint8_t
       exif.insert(exif.begin(), kExifHeader, kExifHeader + sizeof(kExifHeader));
       orientation = ExifOrientation(exif.data(), exif.size());
     }
+  } else if (IsRawPhotoName(path)) {
+    direct = DecodeRaw(path, bytes.data(), bytes.size(), mode);  // upright as developed
   } else if (LooksLikeHeif(bytes.data(), bytes.size())) {
     direct = DecodeHeif(path, bytes.data(), bytes.size(), mode);  // upright as decoded
   }
   cv::Mat pixels;
   if (direct) {
     // As cv::imread: the EXIF orientation (JPEG APP1, PNG eXIf chunk) turns the image upright.
-    // (HEIF's own transformations are applied by its decoder.)
+    // (HEIF's and raw files' orientations are applied by their decoders.)
     pixels = std::move(*direct);
     if (!pixels.empty()) ApplyExifOrientation(orientation, &pixels);
   } else {

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "varsfm/image/image_file.h"
+#include "varsfm/image/raw_codec.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
 
@@ -65,12 +66,10 @@ std::vector<std::string> OneNamePerFile(std::vector<FoundImage> found, const fs:
   return names;
 }
 
-// Photo formats of cameras and phones that varsfm does not decode (camera raw files; GIF, 1-bit
-// PBM): skipped like any other file, but named in a warning, since a user who gave them meant
-// them as photos.
+// Picture formats that varsfm does not decode (GIF, 1-bit PBM): skipped like any other file, but
+// named in a warning, since a user who gave them meant them as photos.
 bool IsUnreadablePhotoFormat(const fs::path& path) {
-  static constexpr std::array<const char*, 9> kExtensions = {".gif", ".pbm", ".dng", ".cr2", ".cr3",
-                                                             ".nef", ".arw", ".raf", ".orf"};
+  static constexpr std::array<const char*, 2> kExtensions = {".gif", ".pbm"};
   const std::string ext = LowerCaseExtension(path);
   return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
@@ -88,13 +87,14 @@ bool IsVideoFile(const fs::path& path) {
 }  // namespace
 
 bool HasImageExtension(const fs::path& path) {
-  // JPEG, PNG and HEIF (HEIC, AVIF) are decoded directly, the others by OpenCV's image codecs
-  // through the I/O plug-in (image_file.h).
+  // JPEG, PNG, HEIF (HEIC, AVIF) and camera raw files are decoded directly, the others by
+  // OpenCV's image codecs through the I/O plug-in (image_file.h).
   static constexpr std::array<const char*, 16> kExtensions = {
       ".jpg",  ".jpeg", ".jpe",  ".png", ".heic", ".heif", ".avif", ".tif",
       ".tiff", ".bmp",  ".webp", ".jp2", ".j2k",  ".pnm",  ".ppm",  ".pgm"};
   const std::string ext = LowerCaseExtension(path);
-  return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
+  return IsRawPhotoName(path) ||
+         std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
 
 std::vector<std::string> ListImages(const fs::path& dir, ListingNotes mode) {
