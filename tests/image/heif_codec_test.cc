@@ -1,13 +1,10 @@
 #include "varsfm/image/heif_codec.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "support/heif_writer.h"
 #include "support/test_data.h"
-#include "varsfm/image/image_list.h"
 #include "varsfm/image/jpeg_codec.h"
 #include "varsfm/util/error.h"
 
@@ -95,14 +92,6 @@ TEST(HeifCodec, ACorruptHeicIsAOneLineError) {
   std::vector<uint8_t> jpeg;
   ASSERT_TRUE(EncodeJpeg(Pattern(64, 48), 90, &jpeg));
   EXPECT_FALSE(LooksLikeHeif(jpeg.data(), jpeg.size()));
-}
-
-TEST(ListImages, HeicAndAvifPhotosAreListed) {
-  testing::TempDir dir("list_heif");
-  for (const char* name : {"IMG_0001.HEIC", "IMG_0002.heif", "c.avif", "d.gif"})
-    std::ofstream(dir.path() / name) << "x";
-  const std::vector<std::string> expected = {"IMG_0001.HEIC", "IMG_0002.heif", "c.avif"};
-  EXPECT_EQ(ListImages(dir.path()), expected);
 }
 
 }  // namespace

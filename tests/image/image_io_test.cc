@@ -47,6 +47,17 @@ TEST(ListImages, SortedRecursiveRelativeNamesOfImageFilesOnly) {
   EXPECT_EQ(ListImages(dir.path()), expected);
 }
 
+// A phone's HEIC and AVIF photos and a camera's raw files are photos; GIF is not read.
+TEST(ListImages, HeifAndRawPhotosAreListed) {
+  testing::TempDir dir("list_heif_raw");
+  for (const char* name :
+       {"IMG_0001.HEIC", "IMG_0002.heif", "c.avif", "d.gif", "e.DNG", "f.cr2", "g.NEF"})
+    Touch(dir.path() / name);
+  const std::vector<std::string> expected = {"IMG_0001.HEIC", "IMG_0002.heif", "c.avif",
+                                             "e.DNG",         "f.cr2",         "g.NEF"};
+  EXPECT_EQ(ListImages(dir.path()), expected);
+}
+
 // Hidden files and folders are not the user's photos: macOS's "._" metadata beside each copied
 // photo, a file manager's thumbnails.
 TEST(ListImages, HiddenFilesAndFoldersAreSkipped) {

@@ -9,7 +9,6 @@
 #include "support/dng_writer.h"
 #include "support/test_data.h"
 #include "varsfm/image/image_io.h"
-#include "varsfm/image/image_list.h"
 #include "varsfm/util/error.h"
 
 namespace varsfm {
@@ -78,14 +77,6 @@ TEST(ReadPhoto, ReadsARawPhotosFocalLength) {
   EXPECT_EQ(RawFocalLength35mm(dng.data(), dng.size()), 28.0);
   const std::vector<uint8_t> bare = testing::EncodeDng(HalfBright(96, 64));
   EXPECT_FALSE(RawFocalLength35mm(bare.data(), bare.size()).has_value());
-}
-
-TEST(ListImages, CameraRawFilesAreListed) {
-  testing::TempDir dir("list_raw");
-  for (const char* name : {"IMG_0001.DNG", "b.cr2", "c.NEF", "d.gif"})
-    std::ofstream(dir.path() / name) << "x";
-  const std::vector<std::string> expected = {"IMG_0001.DNG", "b.cr2", "c.NEF"};
-  EXPECT_EQ(ListImages(dir.path()), expected);
 }
 
 }  // namespace
