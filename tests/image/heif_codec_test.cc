@@ -11,8 +11,6 @@
 namespace varsfm {
 namespace {
 
-namespace fs = std::filesystem;
-
 // Smooth colour ramps and a disc: little for the lossy encoder to lose, and no symmetry.
 cv::Mat Pattern(int width, int height) {
   cv::Mat image(height, width, CV_8UC3);

@@ -14,8 +14,6 @@
 namespace varsfm {
 namespace {
 
-namespace fs = std::filesystem;
-
 // Bright on the left, dark on the right, with texture: the halves show where the sensor's left
 // edge went after developing.
 cv::Mat HalfBright(int width, int height) {
