@@ -181,6 +181,22 @@ TEST(Evaluate, UnregisteredAndMissingImages) {
   EXPECT_EQ(two.focal_error_percent.count, 2u);
 }
 
+// Photos in subfolders or converted to another format (an iPhone's HEIC against ground truth
+// made for JPEGs) pair by file name, then by name without extension, where that is unambiguous.
+TEST(Evaluate, ImagesPairByFileNameThenByStem) {
+  Fixture f = MakeFixture(5);
+  const std::vector<image_t> ids = f.estimated.RegisteredImageIds();
+  f.estimated.image(ids[0]).name = "phone/image0.jpg";
+  f.estimated.image(ids[1]).name = "image1.HEIC";
+  f.estimated.image(ids[2]).name = "sub/image2.dng";
+  EXPECT_EQ(EvaluateAgainstGroundTruth(f.estimated, f.gt).num_registered, 5u);
+  // Two photos of one stem: neither pairs by it.
+  f.estimated.image(ids[3]).name = "image1.png";
+  const EvaluationReport r = EvaluateAgainstGroundTruth(f.estimated, f.gt);
+  EXPECT_EQ(r.num_registered, 3u);
+  EXPECT_FALSE(r.images[1].registered);
+}
+
 // Writes ground truth in Strecha's format (K with (0, 0) at a pixel centre, R camera-to-world).
 void WriteStrechaFiles(const GroundTruth& gt, const fs::path& dir) {
   fs::create_directories(dir);

@@ -21,25 +21,36 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 class NameIndex {
  public:
   explicit NameIndex(const Reconstruction& rec) {
-    std::map<std::string, int> basename_count;
+    std::map<std::string, int> basename_count, stem_count;
     for (const auto& [id, image] : rec.images()) {
       if (!image.registered) continue;
       by_name_[image.name] = id;
-      const std::string base = std::filesystem::path(image.name).filename().string();
-      by_basename_[base] = id;
-      ++basename_count[base];
+      const std::filesystem::path path(image.name);
+      by_basename_[path.filename().string()] = id;
+      ++basename_count[path.filename().string()];
+      by_stem_[path.stem().string()] = id;
+      ++stem_count[path.stem().string()];
     }
+    // Ambiguous: only more exact names match.
     for (const auto& [base, count] : basename_count)
-      if (count > 1) by_basename_.erase(base);  // ambiguous: only exact names match
+      if (count > 1) by_basename_.erase(base);
+    for (const auto& [stem, count] : stem_count)
+      if (count > 1) by_stem_.erase(stem);
   }
+  // The registered image of ground-truth camera `name`: by name, else by file name (photos in
+  // subfolders), else by file name without extension (photos converted to another format:
+  // an iPhone's IMG_0001.HEIC against ground truth made for IMG_0001.jpg).
   const Image* Find(const Reconstruction& rec, const std::string& name) const {
-    for (const auto* index : {&by_name_, &by_basename_})
-      if (const auto it = index->find(name); it != index->end()) return &rec.image(it->second);
+    const std::filesystem::path path(name);
+    for (const auto& [index, key] :
+         {std::pair{&by_name_, name}, std::pair{&by_basename_, path.filename().string()},
+          std::pair{&by_stem_, path.stem().string()}})
+      if (const auto it = index->find(key); it != index->end()) return &rec.image(it->second);
     return nullptr;
   }
 
  private:
-  std::map<std::string, image_t> by_name_, by_basename_;
+  std::map<std::string, image_t> by_name_, by_basename_, by_stem_;
 };
 
 double RotationAngleDeg(const Eigen::Matrix3d& R) {
