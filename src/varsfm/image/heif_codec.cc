@@ -6,8 +6,6 @@
 #include <libheif/heif.h>
 #include <opencv2/imgproc.hpp>
 
-#include "varsfm/util/error.h"
-
 namespace varsfm {
 namespace {
 
@@ -56,9 +54,7 @@ cv::Mat DecodeHeif(const std::filesystem::path& path, const uint8_t* data, size_
       static_cast<uint64_t>(std::max(heif_image_handle_get_width(handle.get()), 0));
   const uint64_t height =
       static_cast<uint64_t>(std::max(heif_image_handle_get_height(handle.get()), 0));
-  if (width * height > kMaxImagePixels)
-    Fail("image {} is {} x {} pixels, more than the {} varsfm decodes", path.string(), width,
-         height, kMaxImagePixels);
+  RequireDecodablePixelCount(path, width, height);
   // Interleaved 8-bit RGB whatever the stored bit depth or chroma (libheif converts; a 10-bit
   // photo is scaled to 8 bits), the transformations applied (the default decoding options).
   heif_image* decoded = nullptr;

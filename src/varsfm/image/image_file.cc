@@ -61,12 +61,17 @@ void RequirePlausibleSize(const std::filesystem::path& path, const std::vector<u
       Fail("image {} declares {} x {} pixels, more than its {} bytes can hold (corrupt PNG)",
            path.string(), width, height, bytes.size());
   }
+  RequireDecodablePixelCount(path, width, height);
+}
+
+}  // namespace
+
+void RequireDecodablePixelCount(const std::filesystem::path& path, uint64_t width,
+                                uint64_t height) {
   if (width * height > kMaxImagePixels)
     Fail("image {} is {} x {} pixels, more than the {} varsfm decodes", path.string(), width,
          height, kMaxImagePixels);
 }
-
-}  // namespace
 
 std::string LowerCaseExtension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();

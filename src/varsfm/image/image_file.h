@@ -21,6 +21,10 @@ enum class ColorMode { kGray, kColor };
 // larger size field is taken for a corrupt or malicious file and refused before allocation.
 inline constexpr uint64_t kMaxImagePixels = uint64_t{1} << 28;
 
+// Throws varsfm::Error (one line naming `path`) when `width` x `height`, as a file declares them,
+// is more than kMaxImagePixels: each decoder checks before it allocates.
+void RequireDecodablePixelCount(const std::filesystem::path& path, uint64_t width, uint64_t height);
+
 // The bytes of `path`. Throws varsfm::Error (one line naming the file) when it cannot be read
 // or is empty.
 std::vector<uint8_t> ReadImageFile(const std::filesystem::path& path);

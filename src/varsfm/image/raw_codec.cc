@@ -7,8 +7,6 @@
 #include <libraw/libraw.h>
 #include <opencv2/imgproc.hpp>
 
-#include "varsfm/util/error.h"
-
 namespace varsfm {
 namespace {
 
@@ -34,9 +32,7 @@ cv::Mat DecodeRaw(const std::filesystem::path& path, const uint8_t* data, size_t
   const std::unique_ptr<LibRaw> raw = OpenRaw(data, size);
   if (!raw) return {};
   const uint64_t width = raw->imgdata.sizes.raw_width, height = raw->imgdata.sizes.raw_height;
-  if (width * height > kMaxImagePixels)
-    Fail("image {} is {} x {} pixels, more than the {} varsfm decodes", path.string(), width,
-         height, kMaxImagePixels);
+  RequireDecodablePixelCount(path, width, height);
   // dcraw's defaults but the camera's white balance (-w) and 8 bits: a photo as the camera's
   // own JPEG would roughly show it, which is what features and texture want.
   raw->imgdata.params.use_camera_wb = 1;
