@@ -6,7 +6,7 @@ pkgs=(build-essential cmake pkg-config libeigen3-dev libceres-dev libsuitesparse
       libsqlite3-dev libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev libtbb-dev
       libgtest-dev libgmock-dev libbenchmark-dev ffmpeg libexif-dev libcgal-dev
       libtinygltf-dev libboost-dev libopenblas0-serial libturbojpeg0-dev libpng-dev libheif-dev libraw-dev
-      libgoogle-perftools-dev
+      libgoogle-perftools-dev libavutil-dev
       libopen3d-dev libjs-three)
 # libjs-three: three.js r111 with its OrbitControls and GLTFLoader, which `varsfm report` inlines
 # into OUT/report.html for the 3D view (varsfm ships no copy; without it the report has no 3D

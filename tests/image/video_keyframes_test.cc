@@ -193,5 +193,33 @@ TEST(VideoKeyframes, UnreadableVideoIsAnErrorAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir.path() / "frames"));
 }
 
+// An MP4 keeps its index (the moov atom) at the end: cut short, it cannot be opened at all. The
+// error says why, in one line, and FFmpeg prints nothing of its own beside it.
+TEST(VideoKeyframes, AnMp4CutBeforeItsIndexIsAOneLineErrorWithFfmpegsReason) {
+  testing::TempDir dir("video_keyframes_mp4");
+  const fs::path whole = dir.path() / "pan.mp4";
+  {
+    cv::VideoWriter writer(whole.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), 25,
+                           cv::Size(320, 240));
+    ASSERT_TRUE(writer.isOpened());
+    const cv::Mat texture = Texture();
+    for (int i = 0; i < 10; ++i) writer.write(texture(cv::Rect(i * kStep, 0, 320, 240)).clone());
+  }
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const fs::path cut = dir.path() / "cut.mp4";
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  ::testing::internal::CaptureStderr();
+  std::string message;
+  try {
+    ExtractKeyframes(cut, dir.path() / "frames", {});
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(message, "cannot open video " + cut.string() + " (FFmpeg: moov atom not found)");
+  EXPECT_FALSE(fs::exists(dir.path() / "frames"));
+}
+
 }  // namespace
 }  // namespace varsfm

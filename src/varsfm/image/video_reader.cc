@@ -11,7 +11,7 @@ VideoReader::VideoReader(const std::filesystem::path& video)
       capture_(nullptr) {
   char error[512] = "";
   capture_ = plugin_->video_open(video.c_str(), error, sizeof(error));
-  if (capture_ == nullptr) Fail("cannot open video {}", video.string());
+  if (capture_ == nullptr) Fail("cannot open video {} ({})", video.string(), error);
 }
 
 VideoReader::~VideoReader() { plugin_->video_close(capture_); }

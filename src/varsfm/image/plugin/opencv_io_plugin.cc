@@ -2,12 +2,20 @@
 // opencv_io_plugin_api.h (see there for why this is a separately loaded library).
 #include "varsfm/image/plugin/opencv_io_plugin_api.h"
 
+#include <cstdarg>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
+
+extern "C" {
+#include <libavutil/log.h>
+}
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
@@ -30,6 +38,31 @@ void SetException(char* error, size_t error_size, const std::exception& e) {
   for (char& c : message)
     if (c == '\n' || c == '\r') c = ' ';
   SetError(error, error_size, message.c_str());
+}
+
+// FFmpeg's messages. Its default logger prints each to stderr as it comes ("[mov,mp4,m4a,3gp,3g2,
+// mj2 @ 0x...] moov atom not found" above varsfm's own error); kept here instead, the last error
+// completes the one-line error of a video that cannot be opened. Those while decoding (a damaged
+// frame) are dropped: the keyframe summary reports the frames read against those announced.
+std::mutex ffmpeg_error_mutex;
+std::string ffmpeg_error;
+
+void KeepFfmpegError(void* /*context*/, int level, const char* format, va_list args) {
+  if (level > AV_LOG_ERROR) return;
+  char line[256];
+  std::vsnprintf(line, sizeof(line), format, args);
+  std::string message(line);
+  while (!message.empty() && (message.back() == '\n' || message.back() == '\r' ||
+                              message.back() == ' ' || message.back() == '.'))
+    message.pop_back();
+  if (message.empty()) return;
+  const std::lock_guard<std::mutex> lock(ffmpeg_error_mutex);
+  ffmpeg_error = std::move(message);
+}
+
+std::string TakeFfmpegError() {
+  const std::lock_guard<std::mutex> lock(ffmpeg_error_mutex);
+  return std::exchange(ffmpeg_error, std::string());
 }
 
 }  // namespace
@@ -67,13 +100,19 @@ VARSFM_EXPORT int varsfm_opencv_io_write(const char* path, const cv::Mat* image,
 
 VARSFM_EXPORT void* varsfm_opencv_io_video_open(const char* path, char* error, size_t error_size) {
   try {
+    // OpenCV leaves FFmpeg's logger alone unless OPENCV_FFMPEG_DEBUG or _LOGLEVEL is set.
+    static std::once_flag logger_set;
+    std::call_once(logger_set, [] { av_log_set_callback(KeepFfmpegError); });
+    TakeFfmpegError();
     // FFmpeg reads nearly every container; asking for it alone also keeps OpenCV from probing
     // GStreamer and image sequences, which print noise for a file that is not a video.
     const bool has_ffmpeg = cv::videoio_registry::hasBackend(cv::CAP_FFMPEG);
     auto capture =
         std::make_unique<cv::VideoCapture>(path, has_ffmpeg ? cv::CAP_FFMPEG : cv::CAP_ANY);
     if (capture->isOpened()) return capture.release();
-    SetError(error, error_size, "OpenCV cannot open it as a video");
+    const std::string reason = TakeFfmpegError();
+    SetError(error, error_size,
+             reason.empty() ? "FFmpeg cannot open it as a video" : ("FFmpeg: " + reason).c_str());
   } catch (const std::exception& e) {
     SetException(error, error_size, e);
   }
