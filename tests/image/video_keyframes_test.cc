@@ -61,14 +61,6 @@ fs::path WritePanVideo(const fs::path& path) {
   return path;
 }
 
-// The first half of the file `from` as `to` (a copy interrupted, a download stopped).
-fs::path CopyFirstHalf(const fs::path& from, const fs::path& to) {
-  std::ifstream in(from, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::ofstream(to, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  return to;
-}
-
 int FrameIndex(const std::string& name) { return std::stoi(name.substr(6, 6)); }
 
 TEST(VideoKeyframes, DropsBlurredFramesAndSpacesKeyframesByMotion) {
@@ -178,7 +170,7 @@ TEST(VideoKeyframes, ATruncatedVideoKeepsItsAnnouncedFrameCount) {
   EXPECT_EQ(full.frames_read, static_cast<size_t>(kFrames));
   EXPECT_EQ(full.frames_announced, static_cast<size_t>(kFrames));
 
-  const fs::path cut = CopyFirstHalf(whole, dir.path() / "cut.avi");
+  const fs::path cut = testing::CopyFileHead(whole, dir.path() / "cut.avi", 0.5);
   const KeyframeSummary part = ExtractKeyframes(cut, dir.path() / "cut", {});
   EXPECT_GT(part.frames_read, 0u);
   EXPECT_LT(part.frames_read, static_cast<size_t>(0.6 * kFrames));
@@ -210,7 +202,7 @@ TEST(VideoKeyframes, AnMp4CutBeforeItsIndexIsAOneLineErrorWithFfmpegsReason) {
     const cv::Mat texture = Texture();
     for (int i = 0; i < 10; ++i) writer.write(texture(cv::Rect(i * kStep, 0, 320, 240)).clone());
   }
-  const fs::path cut = CopyFirstHalf(whole, dir.path() / "cut.mp4");
+  const fs::path cut = testing::CopyFileHead(whole, dir.path() / "cut.mp4", 0.5);
   ::testing::internal::CaptureStderr();
   std::string message;
   try {

@@ -27,6 +27,7 @@ namespace varsfm {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::CopyFileHead;
 using testing::RunCommand;
 using testing::ShellQuote;
 using testing::TempDir;
@@ -569,6 +570,28 @@ TEST(RunCommand, AVideoThatHardlyMovesIsAOneLineError) {
       << log;
   EXPECT_NE(log.find("the camera hardly moves"), std::string::npos) << log;
   EXPECT_EQ(log.find("matching needs"), std::string::npos) << log;
+}
+
+// A video cut after its first frame or two also gives one keyframe: the error names the cut,
+// not the camera's motion.
+TEST(RunCommand, AVideoCutAfterItsFirstFrameIsAOneLineErrorNamingTheCut) {
+  TempDir dir("run_cut_video");
+  const fs::path whole = dir.path() / "pan.avi";
+  WritePanVideo(whole, 30, {});
+  const fs::path video = CopyFileHead(whole, dir.path() / "cut.avi", 0.05);
+  std::string log;
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()), ShellQuote(video),
+                                   ShellQuote(dir.path() / "out")),
+                       &log),
+            1)
+      << log;
+  EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe: decoding stopped at"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("of the 30 its container announces; the file is damaged or cut short"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(log.find("hardly moves"), std::string::npos) << log;
 }
 
 TEST(ExtractCommand, OtherKeyframeSettingsReplaceTheEarlierKeyframes) {

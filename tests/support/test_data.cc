@@ -3,7 +3,9 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <memory>
+#include <string>
 
 namespace varsfm::testing {
 
@@ -52,6 +54,15 @@ std::string ShellQuote(const std::filesystem::path& path) {
   std::string quoted = "'";
   for (const char c : path.string()) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
+}
+
+std::filesystem::path CopyFileHead(const std::filesystem::path& from,
+                                   const std::filesystem::path& to, double fraction) {
+  std::ifstream in(from, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(to, std::ios::binary)
+      << bytes.substr(0, static_cast<size_t>(fraction * static_cast<double>(bytes.size())));
+  return to;
 }
 
 int RunCommand(const std::string& command, std::string* output) {

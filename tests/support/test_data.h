@@ -37,6 +37,11 @@ class TempDir {
 // `path` quoted for a POSIX shell (single quotes; embedded ones escaped).
 std::string ShellQuote(const std::filesystem::path& path);
 
+// Writes the first `fraction` (0..1) of the file `from`'s bytes to `to` (a copy interrupted, a
+// download stopped) and returns `to`.
+std::filesystem::path CopyFileHead(const std::filesystem::path& from,
+                                   const std::filesystem::path& to, double fraction);
+
 // Runs a shell command, returning its exit code; stdout+stderr go to `output` if given.
 int RunCommand(const std::string& command, std::string* output = nullptr);
 

@@ -19,9 +19,6 @@
 namespace varsfm {
 namespace {
 
-// Below this share of the announced frame count, decoding is reported as cut short.
-constexpr double kDecodedShareWarned = 0.9;
-
 struct Frame {
   size_t index = 0;
   cv::Mat full;   // as decoded (BGR)
@@ -196,8 +193,7 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
   const double announced = capture.FrameCount();
   if (announced > 0 && announced < 1e12) {  // NaN, 0 and nonsense: unknown
     summary.frames_announced = static_cast<size_t>(announced);
-    // Containers estimate the count for some formats: only a clear shortfall is reported.
-    if (summary.frames_read < kDecodedShareWarned * announced)
+    if (summary.StoppedShort())
       warn(
           "video {}: decoding stopped at frame {} of the {} its container announces (truncated "
           "or damaged file?); keyframes come from the frames decoded",

@@ -67,7 +67,14 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   const ExtractSummary extracted = RunExtraction(extract, OptionsCheck::kDoneByCaller);
   result->seconds_extract = timer.Seconds();
   // A video whose frames barely differ gives one keyframe (a sharp one is kept whatever the
-  // motion): said here in the video's terms rather than by matching's count of images.
+  // motion): said here in the video's terms rather than by matching's count of images. So does a
+  // damaged or cut video whose decoding stops after a frame or two, for that reason.
+  if (video && extracted.num_images < 2 && extracted.video_stopped_short)
+    Fail(
+        "video {} gave {} keyframe: decoding stopped at frame {} of the {} its container "
+        "announces; the file is damaged or cut short",
+        options.input.string(), extracted.num_images, extracted.video_frames,
+        extracted.video_announced);
   if (video && extracted.num_images < 2)
     Fail(
         "video {} gave {} keyframe of {} frames ({} blurred): the camera hardly moves; film "
