@@ -238,6 +238,29 @@ TEST(RunCommand, AFolderVarsfmDidNotWriteIsRefused) {
   EXPECT_EQ(log.find("or inside it"), std::string::npos) << log;
 }
 
+// A folder with one usable photo is an error in the folder's terms (matching would speak of a
+// workspace the failed run removes).
+TEST(RunCommand, OneUsablePhotoIsAOneLineErrorAboutTheFolder) {
+  VARSFM_REQUIRE_SHARED_DATA(kermit, "bundler/kermit");
+  TempDir tmp("one_photo");
+  const auto images = tmp.path() / "images";
+  std::filesystem::create_directories(images);
+  std::filesystem::copy_file(kermit / "kermit000.jpg", images / "a.jpg");
+  std::ofstream(images / "b.jpg") << "not a photo\n";
+  std::string out;
+  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()), ShellQuote(images),
+                                   ShellQuote(tmp.path() / "out")),
+                       &out),
+            1)
+      << out;
+  EXPECT_NE(out.find("error: " + images.string() +
+                     " holds 1 usable photo(s) (1 unusable): a model needs at least 2"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("matching needs"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / "out"));
+}
+
 TEST(RunCommand, MissingInputIsAOneLineError) {
   TempDir tmp("missing");
   std::string out;

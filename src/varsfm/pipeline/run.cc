@@ -66,6 +66,14 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   (video ? extract.video : extract.image_dir) = options.input;
   const ExtractSummary extracted = RunExtraction(extract, OptionsCheck::kDoneByCaller);
   result->seconds_extract = timer.Seconds();
+  // One usable photo: said in the photo folder's terms, not by matching's count of images in a
+  // workspace that the failed run then removes.
+  const size_t usable = extracted.num_images - extracted.num_unusable;
+  if (!video && usable < 2)
+    Fail(
+        "{} holds {} usable photo(s) ({} unusable): a model needs at least 2 overlapping photos "
+        "of the scene taken from different positions",
+        options.input.string(), usable, extracted.num_unusable);
   // A video whose frames barely differ gives one keyframe (a sharp one is kept whatever the
   // motion): said here in the video's terms rather than by matching's count of images. So does a
   // damaged or cut video whose decoding stops after a frame or two, for that reason.
