@@ -38,6 +38,12 @@ std::string Extract(const fs::path& workspace, const std::string& input_args) {
                      ShellQuote(workspace), input_args);
 }
 
+// `varsfm run INPUT OUT` and further arguments, as a command line.
+std::string Run(const fs::path& input, const fs::path& out, const std::string& args = "") {
+  return fmt::format("{} run {} {} {}", ShellQuote(VarsfmBinary()), ShellQuote(input),
+                     ShellQuote(out), args);
+}
+
 std::string FileBytes(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
@@ -537,9 +543,7 @@ TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
   ASSERT_EQ(RunCommand(Extract(out / "workspace.db", "--images " + ShellQuote(photos)), &log), 0)
       << log;
   const std::string workspace = FileBytes(out / "workspace.db");
-  const std::string run = fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
-                                      ShellQuote(video), ShellQuote(out));
-  EXPECT_EQ(RunCommand(run, &log), 1) << log;
+  EXPECT_EQ(RunCommand(Run(video, out, "--until sparse"), &log), 1) << log;
   EXPECT_NE(log.find("holds 3 image(s) that are not keyframes of"), std::string::npos) << log;
   EXPECT_TRUE(FileBytes(out / "workspace.db") == workspace) << "the workspace was changed";
   EXPECT_FALSE(fs::exists(VideoFramesDir(out / "workspace.db"))) << "keyframes were written";
@@ -547,9 +551,7 @@ TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
   const fs::path own = dir.path() / "own";
   ASSERT_EQ(RunCommand(Extract(own / "workspace.db", "--video " + ShellQuote(video)), &log), 0)
       << log;
-  RunCommand(fmt::format("{} run {} {} --until sparse", ShellQuote(VarsfmBinary()),
-                         ShellQuote(video), ShellQuote(own)),
-             &log);
+  RunCommand(Run(video, own, "--until sparse"), &log);
   EXPECT_EQ(log.find("not keyframes of"), std::string::npos) << log;
 }
 
@@ -560,11 +562,7 @@ TEST(RunCommand, AVideoThatHardlyMovesIsAOneLineError) {
   const fs::path video = dir.path() / "tripod.avi";
   WritePanVideo(video, 30, {}, /*seed=*/5, /*step=*/0);
   std::string log;
-  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()), ShellQuote(video),
-                                   ShellQuote(dir.path() / "out")),
-                       &log),
-            1)
-      << log;
+  EXPECT_EQ(RunCommand(Run(video, dir.path() / "out"), &log), 1) << log;
   EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe of 30 frames"),
             std::string::npos)
       << log;
@@ -580,11 +578,7 @@ TEST(RunCommand, AVideoCutAfterItsFirstFrameIsAOneLineErrorNamingTheCut) {
   WritePanVideo(whole, 30, {});
   const fs::path video = CopyFileHead(whole, dir.path() / "cut.avi", 0.05);
   std::string log;
-  EXPECT_EQ(RunCommand(fmt::format("{} run {} {}", ShellQuote(VarsfmBinary()), ShellQuote(video),
-                                   ShellQuote(dir.path() / "out")),
-                       &log),
-            1)
-      << log;
+  EXPECT_EQ(RunCommand(Run(video, dir.path() / "out"), &log), 1) << log;
   EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe: decoding stopped at"),
             std::string::npos)
       << log;
