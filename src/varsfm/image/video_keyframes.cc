@@ -193,7 +193,7 @@ KeyframeSummary ExtractKeyframes(const std::filesystem::path& video,
   const double announced = capture.FrameCount();
   if (announced > 0 && announced < 1e12) {  // NaN, 0 and nonsense: unknown
     summary.frames_announced = static_cast<size_t>(announced);
-    if (summary.StoppedShort())
+    if (DecodingStoppedShort(summary.frames_read, summary.frames_announced))
       warn(
           "video {}: decoding stopped at frame {} of the {} its container announces (truncated "
           "or damaged file?); keyframes come from the frames decoded",

@@ -47,14 +47,14 @@ struct KeyframeSummary {
   // The frame count the container announces (0: unknown). Decoding that stops well short of it
   // (a truncated or damaged file) is warned about: the keyframes cover only what was read.
   size_t frames_announced = 0;
-
-  // Decoding stopped short of the announced count (containers estimate it for some formats, so
-  // only below 90 % of it).
-  bool StoppedShort() const {
-    return frames_announced > 0 &&
-           static_cast<double>(frames_read) < 0.9 * static_cast<double>(frames_announced);
-  }
 };
+
+// Decoding stopped short of the frame count the container announces (0: unknown). Containers
+// estimate the count for some formats, so only below 90 % of it.
+inline bool DecodingStoppedShort(size_t frames_read, size_t frames_announced) {
+  return frames_announced > 0 &&
+         static_cast<double>(frames_read) < 0.9 * static_cast<double>(frames_announced);
+}
 
 // Throws varsfm::Error (one line naming `video`) when it is a folder or no file.
 void CheckVideoFileExists(const std::filesystem::path& video);

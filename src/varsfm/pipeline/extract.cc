@@ -101,7 +101,6 @@ InputImages ListInput(const ExtractOptions& options, ExtractSummary& summary) {
     summary.video_frames = keyframes.frames_read;
     summary.video_blurred = keyframes.frames_blurred;
     summary.video_announced = keyframes.frames_announced;
-    summary.video_stopped_short = keyframes.StoppedShort();
     info("video {}: {} frames, {} blurred, {} keyframes in {}", options.video.string(),
          keyframes.frames_read, keyframes.frames_blurred, keyframes.names.size(),
          input.dir.string());

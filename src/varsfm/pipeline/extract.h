@@ -34,16 +34,15 @@ struct ExtractOptions {
 };
 
 struct ExtractSummary {
-  std::filesystem::path image_dir;   // the folder image names are relative to
-  size_t num_images = 0;             // listed (or video keyframes)
-  size_t num_existing = 0;           // already extracted in the workspace, skipped
-  size_t num_extracted = 0;          // written by this run
-  size_t num_unusable = 0;           // unreadable or too small, skipped with a warning
-  size_t num_features = 0;           // total over the images written by this run
-  size_t video_frames = 0;           // frames decoded (video input)
-  size_t video_blurred = 0;          // of which dropped as blurred
-  size_t video_announced = 0;        // frames the container announces (0: unknown)
-  bool video_stopped_short = false;  // decoding stopped short of them (KeyframeSummary)
+  std::filesystem::path image_dir;  // the folder image names are relative to
+  size_t num_images = 0;            // listed (or video keyframes)
+  size_t num_existing = 0;          // already extracted in the workspace, skipped
+  size_t num_extracted = 0;         // written by this run
+  size_t num_unusable = 0;          // unreadable or too small, skipped with a warning
+  size_t num_features = 0;          // total over the images written by this run
+  size_t video_frames = 0;          // frames decoded (video input)
+  size_t video_blurred = 0;         // of which dropped as blurred
+  size_t video_announced = 0;       // frames the container announces (0: unknown)
   double seconds = 0;
 };
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "varsfm/image/image_list.h"
+#include "varsfm/image/video_keyframes.h"
 #include "varsfm/io/database.h"
 #include "varsfm/pipeline/output_folder.h"
 #include "varsfm/pipeline/video_frames.h"
@@ -77,7 +78,8 @@ std::filesystem::path RunSparseStages(const RunOptions& options, const bool vide
   // A video whose frames barely differ gives one keyframe (a sharp one is kept whatever the
   // motion): said here in the video's terms rather than by matching's count of images. So does a
   // damaged or cut video whose decoding stops after a frame or two, for that reason.
-  if (video && extracted.num_images < 2 && extracted.video_stopped_short)
+  if (video && extracted.num_images < 2 &&
+      DecodingStoppedShort(extracted.video_frames, extracted.video_announced))
     Fail(
         "video {} gave {} keyframe: decoding stopped at frame {} of the {} its container "
         "announces; the file is damaged or cut short",
