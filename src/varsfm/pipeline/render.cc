@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "varsfm/image/image_file.h"
 #include "varsfm/io/colmap_model.h"
@@ -66,6 +69,21 @@ void WriteRenderedImage(const fs::path& file, const cv::Mat& image) {
   WriteImage(file, image);
 }
 
+// The registered image called `name`; an unknown name fails with a few of the names there are
+// (a typo, or the name of a photo the model did not register).
+image_t RegisteredImageNamed(const Reconstruction& rec, const std::string& name,
+                             const fs::path& sparse) {
+  const std::vector<image_t> ids = rec.RegisteredImageIds();
+  for (const image_t id : ids)
+    if (rec.image(id).name == name) return id;
+  constexpr size_t kNamesShown = 4;
+  std::vector<std::string> names;
+  for (size_t i = 0; i < std::min(ids.size(), kNamesShown); ++i)
+    names.push_back(rec.image(ids[i]).name);
+  Fail("{}: no registered image named {} (it has {}: {}{})", sparse.string(), name, ids.size(),
+       fmt::join(names, ", "), ids.size() > kNamesShown ? ", ..." : "");
+}
+
 }  // namespace
 
 void RenderOptions::Check() const {
@@ -79,31 +97,27 @@ void RunRender(const RenderOptions& options) {
   const fs::path textured =
       options.textured.empty() ? options.model / "textured" : options.textured;
   if (!fs::is_directory(sparse)) Fail("{}: sparse model folder does not exist", sparse.string());
-  const TexturedMesh mesh = ReadTexturedObj(TexturedObjPath(textured));
   const Reconstruction rec = ReadColmapModel(sparse);
-  for (const image_t id : rec.RegisteredImageIds()) {
-    if (rec.image(id).name != options.camera) continue;
-    const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), rec.image(id).cam_from_world);
-    if (options.panel_image_dir.empty()) {
-      WriteRenderedImage(options.output, r.image);
-    } else {
-      const cv::Mat photo = ReadModelPhoto(rec, id, options.panel_image_dir);
-      const cv::Mat shaded = RenderShadedMesh(mesh.vertices, mesh.faces, rec.CameraOf(id),
-                                              rec.image(id).cam_from_world);
-      cv::Mat panel;
-      cv::hconcat(std::vector<cv::Mat>{photo, r.image, shaded}, panel);
-      WriteRenderedImage(options.output, panel);
-    }
-    if (options.write_mask) {
-      fs::path mask = options.output;
-      mask.replace_filename(options.output.stem().string() + "_mask.png");
-      WriteRenderedImage(mask, r.mask);
-    }
-    info("render: {} ({:.0f} % covered) -> {}", options.camera,
-         100.0 * cv::countNonZero(r.mask) / r.mask.total(), options.output.string());
-    return;
+  const image_t id = RegisteredImageNamed(rec, options.camera, sparse);
+  const TexturedMesh mesh = ReadTexturedObj(TexturedObjPath(textured));
+  const Rendering r = RenderTexturedMesh(mesh, rec.CameraOf(id), rec.image(id).cam_from_world);
+  if (options.panel_image_dir.empty()) {
+    WriteRenderedImage(options.output, r.image);
+  } else {
+    const cv::Mat photo = ReadModelPhoto(rec, id, options.panel_image_dir);
+    const cv::Mat shaded =
+        RenderShadedMesh(mesh.vertices, mesh.faces, rec.CameraOf(id), rec.image(id).cam_from_world);
+    cv::Mat panel;
+    cv::hconcat(std::vector<cv::Mat>{photo, r.image, shaded}, panel);
+    WriteRenderedImage(options.output, panel);
   }
-  Fail("{}: no registered image named {}", sparse.string(), options.camera);
+  if (options.write_mask) {
+    fs::path mask = options.output;
+    mask.replace_filename(options.output.stem().string() + "_mask.png");
+    WriteRenderedImage(mask, r.mask);
+  }
+  info("render: {} ({:.0f} % covered) -> {}", options.camera,
+       100.0 * cv::countNonZero(r.mask) / r.mask.total(), options.output.string());
 }
 
 RenderEvaluationReport EvaluateRenders(const RenderEvaluationOptions& options) {
