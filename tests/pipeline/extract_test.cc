@@ -39,7 +39,7 @@ std::string Extract(const fs::path& workspace, const std::string& input_args) {
 }
 
 // `varsfm run INPUT OUT` and further arguments, as a command line.
-std::string Run(const fs::path& input, const fs::path& out, const std::string& args = "") {
+std::string RunLine(const fs::path& input, const fs::path& out, const std::string& args = "") {
   return fmt::format("{} run {} {} {}", ShellQuote(VarsfmBinary()), ShellQuote(input),
                      ShellQuote(out), args);
 }
@@ -543,7 +543,7 @@ TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
   ASSERT_EQ(RunCommand(Extract(out / "workspace.db", "--images " + ShellQuote(photos)), &log), 0)
       << log;
   const std::string workspace = FileBytes(out / "workspace.db");
-  EXPECT_EQ(RunCommand(Run(video, out, "--until sparse"), &log), 1) << log;
+  EXPECT_EQ(RunCommand(RunLine(video, out, "--until sparse"), &log), 1) << log;
   EXPECT_NE(log.find("holds 3 image(s) that are not keyframes of"), std::string::npos) << log;
   EXPECT_TRUE(FileBytes(out / "workspace.db") == workspace) << "the workspace was changed";
   EXPECT_FALSE(fs::exists(VideoFramesDir(out / "workspace.db"))) << "keyframes were written";
@@ -551,7 +551,7 @@ TEST(RunCommand, AVideoIntoAnotherSetsFolderIsRefused) {
   const fs::path own = dir.path() / "own";
   ASSERT_EQ(RunCommand(Extract(own / "workspace.db", "--video " + ShellQuote(video)), &log), 0)
       << log;
-  RunCommand(Run(video, own, "--until sparse"), &log);
+  RunCommand(RunLine(video, own, "--until sparse"), &log);
   EXPECT_EQ(log.find("not keyframes of"), std::string::npos) << log;
 }
 
@@ -562,7 +562,7 @@ TEST(RunCommand, AVideoThatHardlyMovesIsAOneLineError) {
   const fs::path video = dir.path() / "tripod.avi";
   WritePanVideo(video, 30, {}, /*seed=*/5, /*step=*/0);
   std::string log;
-  EXPECT_EQ(RunCommand(Run(video, dir.path() / "out"), &log), 1) << log;
+  EXPECT_EQ(RunCommand(RunLine(video, dir.path() / "out"), &log), 1) << log;
   EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe of 30 frames"),
             std::string::npos)
       << log;
@@ -578,7 +578,7 @@ TEST(RunCommand, AVideoCutAfterItsFirstFrameIsAOneLineErrorNamingTheCut) {
   WritePanVideo(whole, 30, {});
   const fs::path video = CopyFileHead(whole, dir.path() / "cut.avi", 0.05);
   std::string log;
-  EXPECT_EQ(RunCommand(Run(video, dir.path() / "out"), &log), 1) << log;
+  EXPECT_EQ(RunCommand(RunLine(video, dir.path() / "out"), &log), 1) << log;
   EXPECT_NE(log.find("error: video " + video.string() + " gave 1 keyframe: decoding stopped at"),
             std::string::npos)
       << log;
