@@ -1,9 +1,6 @@
 #include "varsfm/export/exported_images.h"
 
-#include <algorithm>
-#include <array>
-
-#include "varsfm/image/image_file.h"
+#include "varsfm/image/heif_codec.h"
 #include "varsfm/image/raw_codec.h"
 #include "varsfm/util/error.h"
 
@@ -21,12 +18,7 @@ std::vector<image_t> ExportedImageIds(const Reconstruction& reconstruction,
 }
 
 std::string ExportedPhotoName(const std::string& name) {
-  static constexpr std::array<const char*, 3> kUnreadByTrainers = {".heic", ".heif", ".avif"};
-  const std::string extension = LowerCaseExtension(name);
-  const bool unread = IsRawPhotoName(name) ||
-                      std::find(kUnreadByTrainers.begin(), kUnreadByTrainers.end(), extension) !=
-                          kUnreadByTrainers.end();
-  return unread ? name + ".jpg" : name;
+  return IsHeifPhotoName(name) || IsRawPhotoName(name) ? name + ".jpg" : name;
 }
 
 }  // namespace varsfm

@@ -8,6 +8,9 @@
 
 namespace varsfm {
 
+// What precedes EXIF data in a JPEG APP1 segment, and what libexif looks for.
+inline constexpr uint8_t kExifHeader[] = {'E', 'x', 'i', 'f', 0, 0};
+
 // The focal length in pixels of an image of `width` x `height` pixels (as displayed, after the
 // EXIF orientation) from the EXIF block of `data` (a whole JPEG file, or raw EXIF data), or
 // nothing when the tags are absent or implausible. Uses, in order:

@@ -1,10 +1,15 @@
 #include "varsfm/image/heif_codec.h"
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include <libheif/heif.h>
 #include <opencv2/imgproc.hpp>
+
+#include "varsfm/image/exif.h"
 
 namespace varsfm {
 namespace {
@@ -37,6 +42,12 @@ HandlePtr PrimaryImage(const uint8_t* data, size_t size, ContextPtr* context) {
 }
 
 }  // namespace
+
+bool IsHeifPhotoName(const std::filesystem::path& path) {
+  static constexpr std::array<const char*, 3> kExtensions = {".heic", ".heif", ".avif"};
+  const std::string ext = LowerCaseExtension(path);
+  return std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
+}
 
 bool LooksLikeHeif(const uint8_t* data, size_t size) {
   if (data == nullptr || size < 12) return false;
@@ -92,7 +103,6 @@ std::vector<uint8_t> HeifExif(const uint8_t* data, size_t size) {
   const uint32_t offset = (uint32_t{block[0]} << 24) | (uint32_t{block[1]} << 16) |
                           (uint32_t{block[2]} << 8) | uint32_t{block[3]};
   if (offset > block_size - 4) return {};
-  static constexpr uint8_t kExifHeader[] = {'E', 'x', 'i', 'f', 0, 0};
   std::vector<uint8_t> exif(kExifHeader, kExifHeader + sizeof(kExifHeader));
   exif.insert(exif.end(), block.begin() + 4 + offset, block.end());
   return exif;

@@ -4,6 +4,7 @@
 // HEIC; without a decoder the whole capture would have to be converted first.
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -11,6 +12,9 @@
 #include "varsfm/image/image_file.h"
 
 namespace varsfm {
+
+// Whether `path` names a HEIF photo (.heic, .heif, .avif; any case).
+bool IsHeifPhotoName(const std::filesystem::path& path);
 
 // Whether `data` starts with an ISO base media file's 'ftyp' box naming a HEIF brand (heic,
 // heix, mif1, avif, ...), as libheif's own check says.

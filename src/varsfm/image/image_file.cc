@@ -28,9 +28,6 @@ constexpr int kImreadGrayscale = 0;
 constexpr int kImreadColor = 1;
 constexpr int kImwriteJpegQuality = 1;
 
-// What precedes EXIF data in a JPEG APP1 segment, and what libexif looks for.
-constexpr uint8_t kExifHeader[] = {'E', 'x', 'i', 'f', 0, 0};
-
 // Any format but JPEG and PNG: OpenCV decodes it, EXIF orientation included.
 cv::Mat DecodeWithPlugin(const std::filesystem::path& path, const std::vector<uint8_t>& bytes,
                          ColorMode mode) {

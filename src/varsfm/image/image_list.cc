@@ -5,6 +5,7 @@
 #include <map>
 #include <system_error>
 
+#include "varsfm/image/heif_codec.h"
 #include "varsfm/image/image_file.h"
 #include "varsfm/image/raw_codec.h"
 #include "varsfm/util/error.h"
@@ -89,11 +90,11 @@ bool IsVideoFile(const fs::path& path) {
 bool HasImageExtension(const fs::path& path) {
   // JPEG, PNG, HEIF (HEIC, AVIF) and camera raw files are decoded directly, the others by
   // OpenCV's image codecs through the I/O plug-in (image_file.h).
-  static constexpr std::array<const char*, 16> kExtensions = {
-      ".jpg",  ".jpeg", ".jpe",  ".png", ".heic", ".heif", ".avif", ".tif",
-      ".tiff", ".bmp",  ".webp", ".jp2", ".j2k",  ".pnm",  ".ppm",  ".pgm"};
+  static constexpr std::array<const char*, 13> kExtensions = {
+      ".jpg",  ".jpeg", ".jpe", ".png", ".tif", ".tiff", ".bmp",
+      ".webp", ".jp2",  ".j2k", ".pnm", ".ppm", ".pgm"};
   const std::string ext = LowerCaseExtension(path);
-  return IsRawPhotoName(path) ||
+  return IsHeifPhotoName(path) || IsRawPhotoName(path) ||
          std::find(kExtensions.begin(), kExtensions.end(), ext) != kExtensions.end();
 }
 
