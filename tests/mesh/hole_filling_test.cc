@@ -114,6 +114,35 @@ TEST(HoleFilling, SplitsHolesThatMeetAtAVertex) {
   EXPECT_EQ(topology.non_manifold_edges, 0u);
 }
 
+TEST(HoleFilling, ClosesAHoleWhoseRimCarriesAFlap) {
+  // The 2 x 3 hole of the first test, with a flap of two faces standing on its rim edge
+  // (8, 5) - (9, 5), as the cut leaves one where a fourth face round an edge was removed as long:
+  // that edge has three faces, two of them running along it the same way, and the hole's
+  // boundary passes through it. Its loop must still close and be filled.
+  TriangleMesh mesh = Grid(20, [](int i, int j) { return i >= 8 && i < 10 && j >= 5 && j < 8; });
+  const int a = 5 * 21 + 8, b = 5 * 21 + 9;  // (8, 5) and (9, 5)
+  const int p = static_cast<int>(mesh.vertices.size());
+  mesh.vertices.emplace_back(8.5, 4.8, 1.0);
+  mesh.vertices.emplace_back(8.5, 5.2, 1.0);
+  mesh.faces.emplace_back(b, a, p);      // against the rim face's a -> b
+  mesh.faces.emplace_back(a, b, p + 1);  // along it
+  ASSERT_EQ(ComputeEdgeTopology(mesh).non_manifold_edges, 1u);
+  const size_t before = mesh.faces.size();
+  const Counts counts = Fill(12, &mesh);
+  EXPECT_GE(counts[1], 1u);  // the hole (the flap's own edges make a loop of four)
+  // The faces added in the plane z = 0 cover the 6 missing squares, facing up.
+  double flat_area = 0;
+  for (size_t f = before; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector3i& face = mesh.faces[f];
+    if (mesh.vertices[face[0]].z() != 0 || mesh.vertices[face[1]].z() != 0 ||
+        mesh.vertices[face[2]].z() != 0)
+      continue;
+    EXPECT_GT(ZOfNormal(mesh, face), 0);
+    flat_area += ZOfNormal(mesh, face) / 2;
+  }
+  EXPECT_NEAR(flat_area, 6.0, 1e-12);
+}
+
 TEST(HoleFilling, NegativeLimitIsAnOptionError) {
   HoleFillingOptions options;
   options.max_edges = -1;

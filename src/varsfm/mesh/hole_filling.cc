@@ -31,9 +31,31 @@ std::vector<std::pair<uint64_t, HalfEdge>> SortedEdges(const TriangleMesh& mesh)
       edges.push_back({UndirectedEdgeKey(a, b), HalfEdge{a, b, c}});
     }
   std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) {
-    return x.first != y.first ? x.first < y.first : x.second.from < y.second.from;
+    if (x.first != y.first) return x.first < y.first;
+    return x.second.from != y.second.from ? x.second.from < y.second.from
+                                          : x.second.third < y.second.third;
   });
   return edges;
+}
+
+// The boundary half-edges among the faces' edges of one undirected edge, [begin, end) of the
+// sorted edges: an edge of one face is one. So is, at an edge of three faces, the face whose
+// direction along the edge is left over when the other two pair up in opposite directions: where
+// the cut leaves a flap on a hole's rim (a fourth face removed as long), the hole's boundary runs
+// through the edge, and without it the loop would not close. Any other edge (two faces, or a
+// fourth face beside two pairs, or faces that disagree in orientation) is not on the boundary.
+void AddBoundaryHalfEdges(const std::vector<std::pair<uint64_t, HalfEdge>>& edges, size_t begin,
+                          size_t end, std::vector<HalfEdge>* boundary) {
+  if (end - begin == 1) {
+    boundary->push_back(edges[begin].second);
+    return;
+  }
+  if (end - begin != 3) return;
+  // Sorted by `from`, the two faces of one direction are adjacent: one of them is left over.
+  const HalfEdge &first = edges[begin].second, &last = edges[end - 1].second;
+  const HalfEdge& middle = edges[begin + 1].second;
+  if (first.from == middle.from && last.from != middle.from) boundary->push_back(first);
+  if (last.from == middle.from && first.from != middle.from) boundary->push_back(last);
 }
 
 // Chains the boundary half-edges into simple loops (each a list of half-edges in the faces'
@@ -137,12 +159,14 @@ HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh*
   std::vector<HalfEdge> boundary;
   std::vector<double> lengths;
   lengths.reserve(edges.size());
-  for (size_t i = 0; i < edges.size(); ++i) {
-    const HalfEdge& h = edges[i].second;
-    lengths.push_back((mesh->vertices[h.to] - mesh->vertices[h.from]).squaredNorm());
-    const bool alone = (i == 0 || edges[i - 1].first != edges[i].first) &&
-                       (i + 1 == edges.size() || edges[i + 1].first != edges[i].first);
-    if (alone) boundary.push_back(h);
+  for (size_t i = 0; i < edges.size();) {
+    size_t end = i + 1;
+    while (end < edges.size() && edges[end].first == edges[i].first) ++end;
+    AddBoundaryHalfEdges(edges, i, end, &boundary);
+    for (; i < end; ++i) {
+      const HalfEdge& h = edges[i].second;
+      lengths.push_back((mesh->vertices[h.to] - mesh->vertices[h.from]).squaredNorm());
+    }
   }
   const auto middle = lengths.begin() + static_cast<ptrdiff_t>(lengths.size() / 2);
   std::nth_element(lengths.begin(), middle, lengths.end());

@@ -28,9 +28,10 @@ struct HoleFillingStats {
 };
 
 // Fills the loops options allow, never the longest loop of a connected part (its outer edge:
-// filling it would lay a second sheet over an open surface). Boundary edges through a vertex
-// with more than one boundary loop are left as they are. Faces are added counter-clockwise like
-// the faces beside the loop; no vertex is added. Deterministic. `options` must have passed
+// filling it would lay a second sheet over an open surface). Where loops meet at a vertex they
+// are split there; an edge of three faces, two of them along it the same way (a flap on a rim),
+// carries the boundary of the hole beside it. Faces are added counter-clockwise like the faces
+// beside the loop; no vertex is added. Deterministic. `options` must have passed
 // Check() (DelaunaySurfaceOptions::Check checks them where the mesh stage starts).
 HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh* mesh);
 
