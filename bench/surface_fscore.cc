@@ -7,7 +7,10 @@
 //                  [--edge-factors 8,0,...]
 //                  [--hole-edges 100,0,...] [--planar-iterations 0] [--source-views 4]
 //                  [--coverage-source true]
-//                  [--redundant-weight 0.03] [--missing-view-penalty 0] [--max-cost 0.6]
+//                  [--redundant-weight 0.03] [--redundant-fraction 0.8]
+//                  [--redundant-other-views 5] [--redundant-max-uncovered 0.05]
+//                  [--redundant-max-angle 20]
+//                  [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
 //                  [--edge-erosion 4]
@@ -16,6 +19,9 @@
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
 // --source-views, --coverage-source, --redundant-weight: the source views (dense/source_views.h);
+// --redundant-fraction, --redundant-other-views, --redundant-max-uncovered, --redundant-max-angle:
+// which views get a depth map
+// (dense/reference_views.h; fraction 0: every view);
 // --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
 // (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h);
@@ -88,6 +94,10 @@ Arguments ParseArguments(int argc, char** argv) {
        }},
       {"--planar-iterations", integer(&dense.mvs.planar.num_iterations)},
       {"--redundant-weight", real(&dense.mvs.sources.redundant_point_weight)},
+      {"--redundant-fraction", real(&dense.mvs.references.redundant_fraction)},
+      {"--redundant-other-views", integer(&dense.mvs.references.min_other_views)},
+      {"--redundant-max-uncovered", real(&dense.mvs.references.max_uncovered_fraction)},
+      {"--redundant-max-angle", real(&dense.mvs.references.max_view_angle_deg)},
       {"--source-views", integer(&dense.mvs.sources.num_source_views)},
       {"--coverage-source",
        [&](const std::string& text) { dense.mvs.sources.coverage_source = text == "true"; }},

@@ -146,6 +146,13 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "views each (0 to 1; 0: every view gets one)");
   AddWithDefault(cmd, "--dense-redundant-other-views", dense->mvs.references.min_other_views,
                  "see --dense-redundant-fraction (2 to 1000)");
+  AddWithDefault(cmd, "--dense-redundant-max-uncovered",
+                 dense->mvs.references.max_uncovered_fraction,
+                 "... and at most this share of its sparse points would be left with fewer "
+                 "depth-map views than a fused point needs (0 to 1)");
+  AddWithDefault(cmd, "--dense-redundant-max-angle", dense->mvs.references.max_view_angle_deg,
+                 "other views count for a sparse point when they see it within this angle (deg) "
+                 "of the view's own ray (0 to 180)");
   AddWithDefault(cmd, "--dense-source-views", dense->mvs.sources.num_source_views,
                  "PatchMatch source views per depth map (1 to 16)");
   AddWithDefault(cmd, "--dense-redundant-weight", dense->mvs.sources.redundant_point_weight,

@@ -165,7 +165,8 @@ std::vector<image_t> ReferenceViews(const Reconstruction& rec,
   if (candidates.empty())
     Fail("densify: no registered view shares {} points with another (multi-view stereo)",
          options.sources.min_shared_points);
-  std::vector<image_t> references = SelectReferenceViews(rec, candidates, options.references);
+  std::vector<image_t> references =
+      SelectReferenceViews(rec, candidates, options.references, options.fusion.min_fused_views);
   stats->num_redundant_views = candidates.size() - references.size();
   if (stats->num_redundant_views > 0)
     info("multi-view stereo: {} of {} views are redundant with the others: depth maps for {}",

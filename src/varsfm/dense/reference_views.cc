@@ -1,7 +1,9 @@
 #include "varsfm/dense/reference_views.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <unordered_map>
 
 #include "varsfm/dense/source_views.h"
@@ -11,29 +13,42 @@ namespace varsfm {
 
 std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
                                           const std::vector<image_t>& candidates,
-                                          const ReferenceViewOptions& options) {
+                                          const ReferenceViewOptions& options,
+                                          int min_fused_views) {
   if (options.redundant_fraction <= 0) return candidates;
   std::unordered_map<image_t, size_t> index;
-  for (size_t k = 0; k < candidates.size(); ++k) index[candidates[k]] = k;
-  // Each candidate's points, and each point's candidate views (its count, kept current).
-  std::vector<std::vector<uint32_t>> points_of(candidates.size());
-  std::vector<int> views_of_point;
+  std::vector<Eigen::Vector3d> centres;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    index[candidates[k]] = k;
+    centres.push_back(rec.image(candidates[k]).cam_from_world.Center());
+  }
+  // Each point's candidate views with the unit ray from each, and each candidate's points as
+  // (point, position in the point's views); each point's count of views still kept.
+  struct PointView {
+    uint32_t view;
+    Eigen::Vector3f ray;
+  };
+  std::vector<std::vector<PointView>> views_of;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> points_of(candidates.size());
+  std::vector<int> kept_views;
   for (const auto& [id, point] : rec.points3D()) {
-    const auto point_index = static_cast<uint32_t>(views_of_point.size());
-    int count = 0;
+    const auto p = static_cast<uint32_t>(views_of.size());
+    std::vector<PointView> views;
     for (const image_t view : RegisteredViews(rec, point)) {
       const auto it = index.find(view);
       if (it == index.end()) continue;
-      points_of[it->second].push_back(point_index);
-      ++count;
+      const auto k = static_cast<uint32_t>(it->second);
+      points_of[k].push_back({p, static_cast<uint32_t>(views.size())});
+      views.push_back({k, (point.xyz - centres[k]).normalized().cast<float>()});
     }
-    views_of_point.push_back(count);
+    kept_views.push_back(static_cast<int>(views.size()));
+    views_of.push_back(std::move(views));
   }
   // Longest mean track first: a view among many others is the likeliest to repeat them. The
   // means are compared as integer cross products, so the order is exact.
   std::vector<uint64_t> track_sum(candidates.size(), 0);
   for (size_t k = 0; k < candidates.size(); ++k)
-    for (const uint32_t p : points_of[k]) track_sum[k] += views_of_point[p];
+    for (const auto& [p, at] : points_of[k]) track_sum[k] += views_of[p].size();
   // A view without sparse points is kept, and left out of the order (its mean is undefined).
   std::vector<size_t> order;
   for (size_t k = 0; k < candidates.size(); ++k)
@@ -44,15 +59,25 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
     if (left != right) return left > right;
     return candidates[a] < candidates[b];
   });
+  const auto min_cos =
+      static_cast<float>(std::cos(options.max_view_angle_deg * std::numbers::pi / 180.0));
   std::vector<bool> keep(candidates.size(), true);
   for (const size_t k : order) {
-    const std::vector<uint32_t>& points = points_of[k];
-    const auto covered = std::count_if(points.begin(), points.end(), [&](uint32_t p) {
-      return views_of_point[p] - 1 >= options.min_other_views;
-    });
+    const auto& points = points_of[k];
+    // A point is covered by the other kept views that see it from within the angle.
+    size_t covered = 0, uncovered = 0;
+    for (const auto& [p, at] : points) {
+      const Eigen::Vector3f& ray = views_of[p][at].ray;
+      int others = 0;
+      for (const PointView& other : views_of[p])
+        if (other.view != k && keep[other.view] && other.ray.dot(ray) >= min_cos) ++others;
+      if (others >= options.min_other_views) ++covered;
+      if (kept_views[p] == min_fused_views) ++uncovered;
+    }
     if (static_cast<double>(covered) < options.redundant_fraction * points.size()) continue;
+    if (static_cast<double>(uncovered) > options.max_uncovered_fraction * points.size()) continue;
     keep[k] = false;
-    for (const uint32_t p : points) --views_of_point[p];
+    for (const auto& [p, at] : points) --kept_views[p];
   }
   std::vector<image_t> kept;
   for (size_t k = 0; k < candidates.size(); ++k)
@@ -63,6 +88,8 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
 void ReferenceViewOptions::Check() const {
   CheckInRange("--dense-redundant-fraction", redundant_fraction, 0.0, 1.0);
   CheckInRange("--dense-redundant-other-views", min_other_views, 2, 1000);
+  CheckInRange("--dense-redundant-max-uncovered", max_uncovered_fraction, 0.0, 1.0);
+  CheckInRange("--dense-redundant-max-angle", max_view_angle_deg, 0.0, 180.0);
 }
 
 }  // namespace varsfm
