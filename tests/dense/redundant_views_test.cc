@@ -9,6 +9,7 @@
 
 #include "dense/rendered_scene_truth.h"
 #include "varsfm/dense/densify.h"
+#include "varsfm/dense/reference_views.h"
 #include "varsfm/synthetic/rendered_scene.h"
 
 namespace varsfm {
@@ -81,6 +82,23 @@ TEST(MultiViewStereo, RedundantViewsGetNoDepthMapAndTheCloudStillCoversTheSurfac
     near += found;
   }
   EXPECT_GT(static_cast<double>(near) / all.points.size(), 0.95);
+}
+
+TEST(SelectReferenceViews, TheRenderedScenesViewsKeepTheirDepthMaps) {
+  // The scene of issue 18's geometric check (bench/surface_fscore: twelve views along a 50-degree
+  // arc, complete tracks, 800 x 600). Counting the other views at any angle, the arc's middle
+  // views went as redundant and the surfaces they alone saw face-on with them (F-score 0.966 ->
+  // 0.886; bench/results/2026-12-07-s35-reference-coverage.md).
+  const RenderedScene scene = RenderSyntheticScene(RenderedSceneOptions{});
+  const Reconstruction rec = SparseModelFromRenderedScene(scene);
+  std::vector<image_t> views;
+  for (const image_t id : rec.RegisteredImageIds()) views.push_back(id);
+  ASSERT_EQ(views.size(), 12u);
+  EXPECT_GE(SelectReferenceViews(rec, views, ReferenceViewOptions{}, 3).size(), 11u);
+  ReferenceViewOptions any_angle;
+  any_angle.max_view_angle_deg = 180;
+  any_angle.max_uncovered_fraction = 1;
+  EXPECT_LE(SelectReferenceViews(rec, views, any_angle, 3).size(), 6u);
 }
 
 }  // namespace
