@@ -25,9 +25,9 @@ struct ReferenceViewOptions {
   // A view repeats the others only where they see its surface from nearly where it does. At any
   // angle, views a few degrees apart along a facade, each seeing the whole scene, all count as
   // covering one another: the middle views, whose tracks are the longest, went first, and the
-  // surfaces they alone saw face-on went with them. 15 degrees is the widest angle at which
-  // bench/surface_fscore's rendered scene keeps its F-score (measurements in
-  // bench/results/2026-12-07-s35-reference-coverage.md).
+  // surfaces they alone saw face-on went with them. Of the angles measured on
+  // bench/surface_fscore's rendered scene (10, 15, 20 degrees), 15 is the widest that keeps its
+  // F-score (bench/results/2026-12-07-s35-reference-coverage.md).
   double max_view_angle_deg = 15.0;
   // ... and when at most this fraction of its points are points that fusion can make now (seen by
   // its min_fused_views depth-map views) and could not without it: Furukawa et al.'s coverage
