@@ -124,8 +124,8 @@ TEST(HoleFilling, ClosesAHoleWhoseRimCarriesAFlap) {
   const int p = static_cast<int>(mesh.vertices.size());
   mesh.vertices.emplace_back(8.5, 4.8, 1.0);
   mesh.vertices.emplace_back(8.5, 5.2, 1.0);
-  mesh.faces.emplace_back(b, a, p);      // against the rim face's a -> b
-  mesh.faces.emplace_back(a, b, p + 1);  // along it
+  mesh.faces.emplace_back(b, a, p);      // along the rim face below, which runs b -> a
+  mesh.faces.emplace_back(a, b, p + 1);  // against it
   ASSERT_EQ(ComputeEdgeTopology(mesh).non_manifold_edges, 1u);
   const size_t before = mesh.faces.size();
   const Counts counts = Fill(12, &mesh);
