@@ -23,14 +23,13 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
     centres.push_back(rec.image(candidates[k]).cam_from_world.Center());
   }
   // Each point's candidate views with the unit ray from each, and each candidate's points as
-  // (point, position in the point's views); each point's count of views still kept.
+  // (point, position in the point's views).
   struct PointView {
     uint32_t view;
     Eigen::Vector3f ray;
   };
   std::vector<std::vector<PointView>> views_of;
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> points_of(candidates.size());
-  std::vector<int> kept_views;
   for (const auto& [id, point] : rec.points3D()) {
     const auto p = static_cast<uint32_t>(views_of.size());
     std::vector<PointView> views;
@@ -41,7 +40,6 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
       points_of[k].push_back({p, static_cast<uint32_t>(views.size())});
       views.push_back({k, (point.xyz - centres[k]).normalized().cast<float>()});
     }
-    kept_views.push_back(static_cast<int>(views.size()));
     views_of.push_back(std::move(views));
   }
   // Longest mean track first: a view among many others is the likeliest to repeat them. The
@@ -64,20 +62,23 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
   std::vector<bool> keep(candidates.size(), true);
   for (const size_t k : order) {
     const auto& points = points_of[k];
-    // A point is covered by the other kept views that see it from within the angle.
+    // A point is covered by the other kept views that see it from within the angle, and
+    // uncovered without k when the kept views, k among them, are just as many as fusion needs.
     size_t covered = 0, uncovered = 0;
     for (const auto& [p, at] : points) {
       const Eigen::Vector3f& ray = views_of[p][at].ray;
-      int others = 0;
-      for (const PointView& other : views_of[p])
-        if (other.view != k && keep[other.view] && other.ray.dot(ray) >= min_cos) ++others;
-      if (others >= options.min_other_views) ++covered;
-      if (kept_views[p] == min_fused_views) ++uncovered;
+      int others = 0, others_near = 0;
+      for (const PointView& other : views_of[p]) {
+        if (other.view == k || !keep[other.view]) continue;
+        ++others;
+        if (other.ray.dot(ray) >= min_cos) ++others_near;
+      }
+      if (others_near >= options.min_other_views) ++covered;
+      if (others + 1 == min_fused_views) ++uncovered;
     }
     if (static_cast<double>(covered) < options.redundant_fraction * points.size()) continue;
     if (static_cast<double>(uncovered) > options.max_uncovered_fraction * points.size()) continue;
     keep[k] = false;
-    for (const auto& [p, at] : points) --kept_views[p];
   }
   std::vector<image_t> kept;
   for (size_t k = 0; k < candidates.size(); ++k)
