@@ -148,8 +148,8 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "see --dense-redundant-fraction (2 to 1000)");
   AddWithDefault(cmd, "--dense-redundant-max-uncovered",
                  dense->mvs.references.max_uncovered_fraction,
-                 "... and at most this share of its sparse points would be left with fewer "
-                 "depth-map views than a fused point needs (0 to 1)");
+                 "a view is redundant only when at most this share of its sparse points would "
+                 "be left with fewer depth-map views than a fused point needs (0 to 1)");
   AddWithDefault(cmd, "--dense-redundant-max-angle", dense->mvs.references.max_view_angle_deg,
                  "other views count for a sparse point when they see it within this angle (deg) "
                  "of the view's own ray (0 to 180)");
