@@ -45,11 +45,10 @@ struct BundleAdjustmentScheduleOptions {
   // at most this many of its observations, spread over its track (0: all;
   // BundleAdjustmentConfig::max_point_observations). On a set whose images densify, a point's
   // track grows with the images and the exact adjustment with the sum of the squared track
-  // lengths. The final adjustment stays complete. Off by default: with the conjugate gradients
-  // below it saves no CPU on an idle machine at 1000 rendered photos and costs a little accuracy
-  // (bench/results/2026-12-03-global-ba-cg.md); it cuts the mapper's peak memory by a fifth
-  // there (10 and 200 are the measured settings).
-  int growth_ba_max_point_observations = 0;
+  // lengths. The final adjustment stays complete and settles what the subsets leave (measured
+  // in docs/measurements.md, "Track subsets in the growth adjustments"). Sets of fewer than
+  // growth_ba_subset_min_images images are untouched.
+  int growth_ba_max_point_observations = 10;
   int growth_ba_subset_min_images = 200;
   // Beyond the paper: a global adjustment of at least this many images solves its reduced
   // camera system by preconditioned conjugate gradients (0: never; ba/reduced_camera_pcg.cc):
