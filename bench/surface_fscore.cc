@@ -9,7 +9,7 @@
 //                  [--coverage-source true]
 //                  [--redundant-weight 0.03] [--redundant-fraction 0.8]
 //                  [--redundant-other-views 5] [--redundant-max-uncovered 0.05]
-//                  [--redundant-max-angle 20]
+//                  [--redundant-max-angle 15]
 //                  [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
@@ -20,8 +20,7 @@
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
 // --source-views, --coverage-source, --redundant-weight: the source views (dense/source_views.h);
 // --redundant-fraction, --redundant-other-views, --redundant-max-uncovered, --redundant-max-angle:
-// which views get a depth map
-// (dense/reference_views.h; fraction 0: every view);
+// which views get a depth map (dense/reference_views.h; fraction 0: every view);
 // --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
 // (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h);

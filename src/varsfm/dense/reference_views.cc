@@ -20,7 +20,7 @@ std::vector<image_t> SelectReferenceViews(const Reconstruction& rec,
   std::vector<Eigen::Vector3d> centres;
   for (size_t k = 0; k < candidates.size(); ++k) {
     index[candidates[k]] = k;
-    centres.push_back(rec.image(candidates[k]).cam_from_world.Center());
+    centres.push_back(rec.image(candidates[k]).Center());
   }
   // Each point's candidate views with the unit ray from each, and each candidate's points as
   // (point, position in the point's views).
