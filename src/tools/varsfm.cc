@@ -522,6 +522,9 @@ void AddMeshCommand(CLI::App* app) {
                 std::string("delaunay: ") + kKeepEnclosedLongFacesHelp);
   AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
                  "delaunay: close boundary loops of at most this many edges (0: none)");
+  AddWithDefault(cmd, "--hole-fairing", delaunay.hole_filling.refine_and_fair,
+                 "delaunay: refine the faces that close a hole to the surface's density and fair "
+                 "them, so they continue a curved surface's shape (true/false)");
   AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,
                  "delaunay: Taubin smoothing passes (0: vertices stay on the data)");
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,

@@ -2,6 +2,7 @@
 #include "varsfm/mesh/hole_filling.h"
 
 #include <array>
+#include <cmath>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -141,6 +142,70 @@ TEST(HoleFilling, ClosesAHoleWhoseRimCarriesAFlap) {
     flat_area += ZOfNormal(mesh, face) / 2;
   }
   EXPECT_NEAR(flat_area, 6.0, 1e-12);
+}
+
+// The mean distance, along z, of the centroids of the faces from `first` on from the surface
+// z = height(x, y).
+template <typename Height>
+double MeanCentroidHeightError(const TriangleMesh& mesh, size_t first, Height height) {
+  double sum = 0;
+  for (size_t f = first; f < mesh.faces.size(); ++f) {
+    const Eigen::Vector3i& face = mesh.faces[f];
+    const Eigen::Vector3d c =
+        (mesh.vertices[face[0]] + mesh.vertices[face[1]] + mesh.vertices[face[2]]) / 3;
+    sum += std::abs(c.z() - height(c.x(), c.y()));
+  }
+  return sum / static_cast<double>(mesh.faces.size() - first);
+}
+
+TEST(HoleFilling, RefinedAndFairedPatchFollowsACurvedSurface) {
+  // A bowl z = 0.05 ((x - 10)^2 + (y - 10)^2) sampled on the grid, with a 6 x 6 hole at its
+  // bottom. Triangles over the loop's own vertices span it flat at the rim's height (z 0.45 to
+  // 0.9), the bowl's bottom being at 0. The bowl is biharmonic (its Laplacian is constant), so
+  // thin-plate fairing with the surrounding faces held fixed reproduces it up to the
+  // discretisation.
+  const auto height = [](double x, double y) {
+    return 0.05 * ((x - 10) * (x - 10) + (y - 10) * (y - 10));
+  };
+  const auto bowl = [&] {
+    TriangleMesh mesh = Grid(20, [](int i, int j) { return i >= 7 && i < 13 && j >= 7 && j < 13; });
+    for (Eigen::Vector3d& v : mesh.vertices) v.z() = height(v.x(), v.y());
+    return mesh;
+  };
+  HoleFillingOptions options;
+  options.max_edges = 30;
+  TriangleMesh flat = bowl(), faired = bowl();
+  const size_t before = flat.faces.size(), vertices = flat.vertices.size();
+  const HoleFillingStats flat_stats = FillSmallHoles(options, &flat);
+  options.refine_and_fair = true;
+  const HoleFillingStats faired_stats = FillSmallHoles(options, &faired);
+  EXPECT_EQ(flat_stats.filled_loops, 1u);
+  EXPECT_EQ(flat_stats.added_vertices, 0u);
+  EXPECT_EQ(flat.vertices.size(), vertices);
+  EXPECT_EQ(faired_stats.filled_loops, 1u);
+  EXPECT_EQ(faired_stats.faired_loops, 1u);
+  // Refined towards the grid's density (the hole holds 25 grid vertices inside it).
+  EXPECT_GT(faired_stats.added_vertices, 10u);
+  EXPECT_EQ(faired.vertices.size(), vertices + faired_stats.added_vertices);
+  EXPECT_EQ(faired_stats.added_faces, faired.faces.size() - before);
+  EXPECT_GT(faired_stats.added_faces, 2 * faired_stats.added_vertices);
+
+  // The new vertices lie on the bowl (within 0.05, its rim being 0.45-0.9 above its bottom); the
+  // faces between them then stay closer to it than the flat patch's (their centroids sag by the
+  // chord error of faces about a grid square wide).
+  for (size_t i = vertices; i < faired.vertices.size(); ++i) {
+    const Eigen::Vector3d& v = faired.vertices[i];
+    EXPECT_NEAR(v.z(), height(v.x(), v.y()), 0.05) << "new vertex " << i;
+  }
+  const double flat_error = MeanCentroidHeightError(flat, before, height);
+  const double faired_error = MeanCentroidHeightError(faired, before, height);
+  EXPECT_GT(flat_error, 0.1);
+  EXPECT_LT(faired_error, 0.4 * flat_error);
+  // The patch closes the hole, facing up like the bowl, and covers it exactly once.
+  EXPECT_NEAR(AreaFacingUp(faired, before), 36.0, 1e-9);
+  const EdgeTopology topology = ComputeEdgeTopology(faired);
+  EXPECT_EQ(topology.boundary_edges, 80u);
+  EXPECT_EQ(topology.non_manifold_edges, 0u);
 }
 
 TEST(HoleFilling, NegativeLimitIsAnOptionError) {

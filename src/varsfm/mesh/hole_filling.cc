@@ -4,8 +4,10 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
+#include "varsfm/mesh/hole_fairing.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/util/option_check.h"
 
@@ -148,6 +150,39 @@ std::vector<Eigen::Vector3i> TriangulateLoop(
   return faces;
 }
 
+// The faces of each vertex, as offsets into one list.
+struct VertexFaces {
+  std::vector<uint32_t> begin;  // num_vertices + 1
+  std::vector<uint32_t> faces;
+};
+
+VertexFaces FacesOfVertices(const TriangleMesh& mesh) {
+  VertexFaces out;
+  out.begin.assign(mesh.vertices.size() + 1, 0);
+  for (const Eigen::Vector3i& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) ++out.begin[f[k] + 1];
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) out.begin[v + 1] += out.begin[v];
+  out.faces.resize(out.begin.back());
+  std::vector<uint32_t> fill(out.begin.begin(), out.begin.end() - 1);
+  for (uint32_t f = 0; f < mesh.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) out.faces[fill[mesh.faces[f][k]]++] = f;
+  return out;
+}
+
+// The faces touching a loop's vertices, each once, in face order.
+std::vector<Eigen::Vector3i> RingOfLoop(const TriangleMesh& mesh, const VertexFaces& faces_of,
+                                        const std::vector<HalfEdge>& loop) {
+  std::vector<uint32_t> ids;
+  for (const HalfEdge& h : loop)
+    ids.insert(ids.end(), faces_of.faces.begin() + faces_of.begin[h.from],
+               faces_of.faces.begin() + faces_of.begin[h.from + 1]);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::vector<Eigen::Vector3i> ring;
+  for (const uint32_t f : ids) ring.push_back(mesh.faces[f]);
+  return ring;
+}
+
 }  // namespace
 
 void HoleFillingOptions::Check() const { CheckNonNegative("--max-hole-edges", max_edges); }
@@ -170,7 +205,8 @@ HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh*
   }
   const auto middle = lengths.begin() + static_cast<ptrdiff_t>(lengths.size() / 2);
   std::nth_element(lengths.begin(), middle, lengths.end());
-  const double max_perimeter = options.max_edges * std::sqrt(*middle);
+  const double median_edge = std::sqrt(*middle);
+  const double max_perimeter = options.max_edges * median_edge;
 
   const std::vector<std::vector<HalfEdge>> loops = BoundaryLoops(boundary, mesh->vertices.size());
   stats.loops = loops.size();
@@ -183,16 +219,34 @@ HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh*
     size_t& o = outer[root[loops[l][0].from]];
     if (o == SIZE_MAX || perimeters[l] > perimeters[o]) o = l;
   }
+  const VertexFaces faces_of_vertex =
+      options.refine_and_fair ? FacesOfVertices(*mesh) : VertexFaces{};
+  std::vector<Eigen::Vector3d> new_vertices;
   for (size_t l = 0; l < loops.size(); ++l) {
     if (outer[root[loops[l][0].from]] == l) continue;
     if (loops[l].size() > static_cast<size_t>(options.max_edges) || perimeters[l] > max_perimeter)
       continue;
-    const std::vector<Eigen::Vector3i> patch = TriangulateLoop(*mesh, loops[l], edges);
+    std::vector<Eigen::Vector3i> patch = TriangulateLoop(*mesh, loops[l], edges);
     if (patch.empty()) continue;
+    // Liepa's density control splits a patch triangle while its centroid lies farther than
+    // its corners' scale / sqrt(2) from each of them, a loop vertex's scale being the mean
+    // length of its edges around the hole. The cut leaves holes rimmed by long edges, which that
+    // alone would refine only to their length: the factor grows with the loop's mean edge over
+    // the surface's median edge, so that the patch comes out at about the surface's density.
+    const double loop_edge = perimeters[l] / static_cast<double>(loops[l].size());
+    const double density = std::sqrt(2.0) * std::max(1.0, loop_edge / median_edge);
+    if (options.refine_and_fair &&
+        RefineAndFairPatch(*mesh, RingOfLoop(*mesh, faces_of_vertex, loops[l]), density, &patch,
+                           &new_vertices))
+      ++stats.faired_loops;
     ++stats.filled_loops;
     stats.added_faces += patch.size();
     mesh->faces.insert(mesh->faces.end(), patch.begin(), patch.end());
   }
+  stats.added_vertices = new_vertices.size();
+  mesh->vertices.insert(mesh->vertices.end(), new_vertices.begin(), new_vertices.end());
+  if (!mesh->colors.empty())
+    mesh->colors.resize(mesh->vertices.size(), Eigen::Matrix<uint8_t, 3, 1>(128, 128, 128));
   return stats;
 }
 
