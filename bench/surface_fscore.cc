@@ -5,8 +5,8 @@
 //   surface_fscore [--images 12] [--width 800] [--height 600] [--tolerance 0.005]
 //                  [--dense patchmatch|propagation|seeded|fill|seeded-fill]
 //                  [--edge-factors 8,0,...]
-//                  [--hole-edges 100,0,...] [--hole-fairing 0,1] [--planar-iterations 0]
-//                  [--source-views 4]
+//                  [--hole-edges 100,0,...] [--hole-fairing 0,1] [--smoothing 10,0,...]
+//                  [--planar-iterations 0] [--source-views 4]
 //                  [--coverage-source true]
 //                  [--redundant-weight 0.03] [--redundant-fraction 0.8]
 //                  [--redundant-other-views 5] [--redundant-max-uncovered 0.05]
@@ -18,7 +18,8 @@
 //                  [--seed 42] [--write-cloud FILE] [--write-samples FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
 // --hole-edges: for each, one per hole_filling.max_edges (hole_filling.h; 0 fills none);
-// --hole-fairing: for each of those, one per hole_filling.refine_and_fair (1: on).
+// --hole-fairing: for each of those, one per hole_filling.refine_and_fair (1: on);
+// --smoothing: for each of those, one per smoothing_iterations (Taubin passes).
 // --planar-iterations: the planar-prior pass (dense/planar_prior.h; 0, the default: none).
 // --source-views, --coverage-source, --redundant-weight: the source views (dense/source_views.h);
 // --redundant-fraction, --redundant-other-views, --redundant-max-uncovered, --redundant-max-angle:
@@ -61,6 +62,8 @@ struct Arguments {
       static_cast<double>(varsfm::DelaunaySurfaceOptions().hole_filling.max_edges)};
   std::vector<double> hole_fairing = {  // 0 or 1 each
       varsfm::DelaunaySurfaceOptions().hole_filling.refine_and_fair ? 1.0 : 0.0};
+  std::vector<double> smoothing = {
+      static_cast<double>(varsfm::DelaunaySurfaceOptions().smoothing_iterations)};
   // --write-samples: every observed sample of the true surface, one line each: x y z, the face,
   // how many views see it, whether a dense point is within the tolerance, its distance to the
   // last mesh -- to map where completeness is lost.
@@ -69,7 +72,7 @@ struct Arguments {
 
 Arguments ParseArguments(int argc, char** argv) {
   Arguments a;
-  auto& [options, tolerance, dense, edge_factors, cloud_file, hole_edges, hole_fairing,
+  auto& [options, tolerance, dense, edge_factors, cloud_file, hole_edges, hole_fairing, smoothing,
          samples_file] = a;
   const auto parse_list = [](const std::string& text) {
     std::vector<double> values;
@@ -120,6 +123,7 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--edge-factors", [&](const std::string& text) { edge_factors = parse_list(text); }},
       {"--hole-edges", [&](const std::string& text) { hole_edges = parse_list(text); }},
       {"--hole-fairing", [&](const std::string& text) { hole_fairing = parse_list(text); }},
+      {"--smoothing", [&](const std::string& text) { smoothing = parse_list(text); }},
   };
   for (int i = 1; i < argc; i += 2) {
     const auto setter = setters.find(argv[i]);
@@ -136,7 +140,7 @@ Arguments ParseArguments(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   try {
-    auto [options, tolerance, dense, edge_factors, cloud_file, hole_edges, hole_fairing,
+    auto [options, tolerance, dense, edge_factors, cloud_file, hole_edges, hole_fairing, smoothing,
           samples_file] = ParseArguments(argc, argv);
     options.focal_start = 0.8 * options.width;  // the demo's field of view at any width
     const varsfm::RenderedScene scene = varsfm::RenderSyntheticScene(options);
@@ -174,17 +178,20 @@ int main(int argc, char** argv) {
     variants[0].second.method = varsfm::SurfaceMethod::kScreenedPoisson;
     for (double factor : edge_factors)
       for (double holes : hole_edges)
-        for (double fair : hole_fairing) {
-          varsfm::SurfaceOptions& surface = variants.emplace_back().second;
-          variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4) +
-                                  ", holes up to " + std::to_string(static_cast<int>(holes)) +
-                                  " edges" + (fair != 0 ? ", faired" : "");
-          surface.method = varsfm::SurfaceMethod::kDelaunay;
-          surface.delaunay.long_faces.max_edge_factor = factor;
-          surface.delaunay.hole_filling.max_edges = static_cast<int>(holes);
-          surface.delaunay.hole_filling.refine_and_fair = fair != 0;
-          surface.Check();  // ReconstructSurface expects checked options
-        }
+        for (double fair : hole_fairing)
+          for (double passes : smoothing) {
+            varsfm::SurfaceOptions& surface = variants.emplace_back().second;
+            variants.back().first = "delaunay, edge factor " + std::to_string(factor).substr(0, 4) +
+                                    ", holes up to " + std::to_string(static_cast<int>(holes)) +
+                                    " edges" + (fair != 0 ? ", faired" : "") + ", " +
+                                    std::to_string(static_cast<int>(passes)) + " smoothing passes";
+            surface.method = varsfm::SurfaceMethod::kDelaunay;
+            surface.delaunay.long_faces.max_edge_factor = factor;
+            surface.delaunay.hole_filling.max_edges = static_cast<int>(holes);
+            surface.delaunay.hole_filling.refine_and_fair = fair != 0;
+            surface.delaunay.smoothing_iterations = static_cast<int>(passes);
+            surface.Check();  // ReconstructSurface expects checked options
+          }
     // Before it, the first Delaunay variant with the long faces in enclosed holes kept.
     if (variants.size() > 1) {
       auto kept = variants[1];
