@@ -5,7 +5,6 @@
 #include <CGAL/Polygon_mesh_processing/refine.h>
 #include <CGAL/Surface_mesh.h>
 
-#include <cmath>
 #include <iterator>
 #include <unordered_map>
 
@@ -49,10 +48,9 @@ bool RefineAndFairPatch(const TriangleMesh& mesh, const std::vector<Eigen::Vecto
   const size_t patch_and_ring = surface.number_of_faces();
   const size_t old_vertices = surface.number_of_vertices();
 
-  std::vector<FaceIndex> refined_faces;
   std::vector<VertexIndex> added;
   namespace pmp = CGAL::Polygon_mesh_processing;
-  pmp::refine(surface, patch_faces, std::back_inserter(refined_faces), std::back_inserter(added),
+  pmp::refine(surface, patch_faces, CGAL::Emptyset_iterator(), std::back_inserter(added),
               CGAL::parameters::density_control_factor(density));
   // Thin-plate fairing (tangent continuity with the fixed ring, cotangent weights).
   if (!added.empty() && !pmp::fair(surface, added, CGAL::parameters::fairing_continuity(1)))
@@ -74,14 +72,13 @@ bool RefineAndFairPatch(const TriangleMesh& mesh, const std::vector<Eigen::Vecto
       corners[k++] = index_of(v);
     faces.push_back(corners);
   }
+  std::vector<Eigen::Vector3d> positions;
   for (size_t i = old_vertices; i < surface.number_of_vertices(); ++i) {
     const Kernel::Point_3& p = surface.point(VertexIndex(static_cast<uint32_t>(i)));
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) return false;
+    positions.emplace_back(p.x(), p.y(), p.z());
+    if (!positions.back().allFinite()) return false;
   }
-  for (size_t i = old_vertices; i < surface.number_of_vertices(); ++i) {
-    const Kernel::Point_3& p = surface.point(VertexIndex(static_cast<uint32_t>(i)));
-    new_vertices->emplace_back(p.x(), p.y(), p.z());
-  }
+  new_vertices->insert(new_vertices->end(), positions.begin(), positions.end());
   *patch = std::move(faces);
   return true;
 }

@@ -228,17 +228,18 @@ HoleFillingStats FillSmallHoles(const HoleFillingOptions& options, TriangleMesh*
       continue;
     std::vector<Eigen::Vector3i> patch = TriangulateLoop(*mesh, loops[l], edges);
     if (patch.empty()) continue;
-    // Liepa's density control splits a patch triangle while its centroid lies farther than
-    // its corners' scale / sqrt(2) from each of them, a loop vertex's scale being the mean
-    // length of its edges around the hole. The cut leaves holes rimmed by long edges, which that
-    // alone would refine only to their length: the factor grows with the loop's mean edge over
-    // the surface's median edge, so that the patch comes out at about the surface's density.
-    const double loop_edge = perimeters[l] / static_cast<double>(loops[l].size());
-    const double density = std::sqrt(2.0) * std::max(1.0, loop_edge / median_edge);
-    if (options.refine_and_fair &&
-        RefineAndFairPatch(*mesh, RingOfLoop(*mesh, faces_of_vertex, loops[l]), density, &patch,
-                           &new_vertices))
-      ++stats.faired_loops;
+    if (options.refine_and_fair) {
+      // Liepa's density control splits a patch triangle while its centroid lies farther than
+      // its corners' scale / sqrt(2) from each of them, a loop vertex's scale being the mean
+      // length of its edges around the hole. The cut leaves holes rimmed by long edges, which
+      // that alone would refine only to their length: the factor grows with the loop's mean edge
+      // over the surface's median edge, so that the patch comes out at about its density.
+      const double loop_edge = perimeters[l] / static_cast<double>(loops[l].size());
+      const double density = std::sqrt(2.0) * std::max(1.0, loop_edge / median_edge);
+      if (RefineAndFairPatch(*mesh, RingOfLoop(*mesh, faces_of_vertex, loops[l]), density, &patch,
+                             &new_vertices))
+        ++stats.faired_loops;
+    }
     ++stats.filled_loops;
     stats.added_faces += patch.size();
     mesh->faces.insert(mesh->faces.end(), patch.begin(), patch.end());
