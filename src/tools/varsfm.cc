@@ -60,6 +60,13 @@ constexpr const char* kKeepEnclosedLongFacesHelp =
     "keep the long faces that fill a hole the views see enclosed by the surface (closes holes "
     "in weakly textured objects; their texture is poor)";
 
+constexpr const char* kMaxHoleEdgesHelp =
+    "close boundary loops of at most this many edges (0: none)";
+
+constexpr const char* kHoleFairingHelp =
+    "refine the faces that close a hole to the surface's density and fair them, so they "
+    "continue a curved surface's shape (true/false)";
+
 constexpr int kUsageError = 2;
 
 // The names an option takes for the values of an enum.
@@ -418,6 +425,10 @@ void AddRunCommand(CLI::App* app) {
                  "mesh stage: decimate to at most this many faces (0: keep all)");
   cmd->add_flag("--keep-enclosed-long-faces", options->surface.delaunay.long_faces.keep_enclosed,
                 std::string("mesh stage (delaunay): ") + kKeepEnclosedLongFacesHelp);
+  AddWithDefault(cmd, "--max-hole-edges", options->surface.delaunay.hole_filling.max_edges,
+                 std::string("mesh stage (delaunay): ") + kMaxHoleEdgesHelp);
+  AddWithDefault(cmd, "--hole-fairing", options->surface.delaunay.hole_filling.refine_and_fair,
+                 std::string("mesh stage (delaunay): ") + kHoleFairingHelp);
   AddWithDefault(cmd, "--texture-max-image-size", options->texture.max_image_size,
                  std::string("texture stage: ") + kTextureMaxImageSizeHelp);
   AddMapperOptions(cmd, &options->map);
@@ -521,10 +532,9 @@ void AddMeshCommand(CLI::App* app) {
   cmd->add_flag("--keep-enclosed-long-faces", delaunay.long_faces.keep_enclosed,
                 std::string("delaunay: ") + kKeepEnclosedLongFacesHelp);
   AddWithDefault(cmd, "--max-hole-edges", delaunay.hole_filling.max_edges,
-                 "delaunay: close boundary loops of at most this many edges (0: none)");
+                 std::string("delaunay: ") + kMaxHoleEdgesHelp);
   AddWithDefault(cmd, "--hole-fairing", delaunay.hole_filling.refine_and_fair,
-                 "delaunay: refine the faces that close a hole to the surface's density and fair "
-                 "them, so they continue a curved surface's shape (true/false)");
+                 std::string("delaunay: ") + kHoleFairingHelp);
   AddWithDefault(cmd, "--smoothing", delaunay.smoothing_iterations,
                  "delaunay: Taubin smoothing passes (0: vertices stay on the data)");
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
