@@ -239,9 +239,8 @@ TriangleMesh ReconstructDelaunaySurface(const PointCloud& cloud, double spacing,
   spdlog::info(
       "surface: Delaunay of {} merged points ({} cells, {:.1f} s), {} rays ({:.1f} s), {} inside "
       "cells, {} faces ({} long faces, {} of them kept in enclosed holes; {} in small parts "
-      "removed; {} of {} boundary loops filled with {} faces, {} of them refined and faired with "
-      "{} "
-      "new vertices; cut {:.1f} s)",
+      "removed; {} of {} boundary loops filled with {} faces, {} of them refined and faired "
+      "with {} new vertices; cut {:.1f} s)",
       s.merged_points, s.cells, s.seconds_tetrahedra, s.rays, s.seconds_rays, s.inside_cells,
       mesh.faces.size(), s.long_faces.long_faces, s.long_faces.kept, s.removed_faces,
       s.holes.filled_loops, s.holes.loops, s.holes.added_faces, s.holes.faired_loops,

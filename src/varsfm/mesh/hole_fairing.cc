@@ -4,6 +4,7 @@
 #include <CGAL/Polygon_mesh_processing/fair.h>
 #include <CGAL/Polygon_mesh_processing/refine.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/iterator.h>
 
 #include <iterator>
 #include <unordered_map>
