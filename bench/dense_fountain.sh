@@ -35,8 +35,8 @@ echo "sparse: $sparse, images: $images, cores: $(nproc), load: $(cut -d' ' -f1-3
   >"$work/densify.log" 2>&1 || { cat "$work/densify.log" >&2; exit 1; }
 grep -E "^densify:|fused points|median distance" "$work/densify.log" | sed 's/^\[[^]]*\] //'
 /usr/bin/time -f "mesh: %e s wall, %U s user, %M KB" \
-  "$varsfm" mesh --input "$work/dense/dense.ply" --output "$work/mesh" \
-  >"$work/mesh.log" 2>&1 || { cat "$work/mesh.log" >&2; exit 1; }
+  "$varsfm" mesh --input "$work/dense/dense.ply" --output "$work/mesh" --sparse "$sparse" \
+  --images "$images" >"$work/mesh.log" 2>&1 || { cat "$work/mesh.log" >&2; exit 1; }
 grep -E "^mesh:|surface:|info mesh" "$work/mesh.log" | sed 's/^\[[^]]*\] //'
 python3 - "$work/dense/dense_summary.json" <<'PY'
 import json, sys

@@ -67,6 +67,10 @@ constexpr const char* kHoleFairingHelp =
     "refine the faces that close a hole to the surface's density and fair them, so they "
     "continue a curved surface's shape (true/false)";
 
+constexpr const char* kPhotometricRefinementHelp =
+    "move the surface's vertices along their normals to where the photos agree best, this many "
+    "times (0: none)";
+
 constexpr int kUsageError = 2;
 
 // The names an option takes for the values of an enum.
@@ -429,6 +433,8 @@ void AddRunCommand(CLI::App* app) {
                  std::string("mesh stage (delaunay): ") + kMaxHoleEdgesHelp);
   AddWithDefault(cmd, "--hole-fairing", options->surface.delaunay.hole_filling.refine_and_fair,
                  std::string("mesh stage (delaunay): ") + kHoleFairingHelp);
+  AddWithDefault(cmd, "--photometric-refinement", options->refinement.iterations,
+                 std::string("mesh stage: ") + kPhotometricRefinementHelp);
   AddWithDefault(cmd, "--texture-max-image-size", options->texture.max_image_size,
                  std::string("texture stage: ") + kTextureMaxImageSizeHelp);
   AddMapperOptions(cmd, &options->map);
@@ -539,6 +545,12 @@ void AddMeshCommand(CLI::App* app) {
                  "delaunay: Taubin smoothing passes (0: vertices stay on the data)");
   AddWithDefault(cmd, "--max-faces", options->surface.decimation.max_faces,
                  "decimate to at most this many faces (quadric edge collapse; 0: keep all)");
+  AddWithDefault(cmd, "--photometric-refinement", options->refinement.iterations,
+                 std::string(kPhotometricRefinementHelp) + " (with --images)");
+  cmd->add_option("--images", options->image_dir,
+                  "the photos' folder, for the photometric refinement (none without it)");
+  AddWithDefault(cmd, "--refinement-max-image-size", options->refinement_max_image_size,
+                 "photometric refinement: the photos' longer side, in pixels, at most");
   cmd->callback([options] { varsfm::RunMesh(*options); });
 }
 

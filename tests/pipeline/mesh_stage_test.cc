@@ -1,8 +1,8 @@
 // The mesh stage on real photographs: bundler/kermit's dense cloud, on which the former default
 // (CGAL's Poisson) crashed the process in its surface mesher, must give a mesh that passes the
 // check, with its figures in summary.json. The default surface (Delaunay) reads the cloud with the
-// visibility beside it (dense.ply.vis) and the sparse model's cameras; screened Poisson reads the
-// same cloud through `mesh --method poisson`.
+// visibility beside it (dense.ply.vis) and the sparse model's cameras, and `run` refines it from
+// the photos; screened Poisson reads the same cloud through `mesh --method poisson`.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -39,6 +39,8 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
             0)
       << log;
   ASSERT_TRUE(std::filesystem::exists(out / "mesh.ply"));
+  // `run` refines the surface from the photos (mesh/photometric_refinement.h).
+  EXPECT_NE(log.find("photometric refinement, 2 iterations"), std::string::npos) << log;
   const nlohmann::json mesh = nlohmann::json::parse(std::ifstream(out / "summary.json"))["mesh"];
   EXPECT_GT(mesh["points"].get<double>(), 100000) << mesh;
   // Merged at the default spacing: the memory cap does not bind on kermit's cloud.
@@ -60,6 +62,9 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
             0)
       << log;
   EXPECT_GE(FacesInPly(tmp.path() / "poisson" / "mesh.ply"), 2000) << log;
+
+  // `mesh` without the photos makes no photometric refinement, and says so.
+  EXPECT_NE(log.find("no photometric refinement"), std::string::npos) << log;
 }
 
 }  // namespace

@@ -21,6 +21,20 @@ EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh) {
   return topology;
 }
 
+std::vector<std::vector<int>> VertexNeighbours(const TriangleMesh& mesh) {
+  std::vector<std::vector<int>> neighbours(mesh.vertices.size());
+  for (const Eigen::Vector3i& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) {
+      neighbours[f[k]].push_back(f[(k + 1) % 3]);
+      neighbours[f[k]].push_back(f[(k + 2) % 3]);
+    }
+  for (std::vector<int>& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  return neighbours;
+}
+
 void RemoveUnreferencedVertices(TriangleMesh* mesh) {
   std::vector<int> remap(mesh->vertices.size(), -1);
   for (const Eigen::Vector3i& f : mesh->faces) {

@@ -23,6 +23,9 @@ EdgeTopology ComputeEdgeTopology(const TriangleMesh& mesh);
 // in no face is its own part). Union-find with path halving.
 std::vector<uint32_t> ComponentRoots(const TriangleMesh& mesh);
 
+// Per vertex: its edge neighbours, sorted and unique (so sums over them run in a fixed order).
+std::vector<std::vector<int>> VertexNeighbours(const TriangleMesh& mesh);
+
 // Drops vertices no face references and renumbers the faces.
 void RemoveUnreferencedVertices(TriangleMesh* mesh);
 

@@ -1,23 +1,14 @@
 #include "varsfm/mesh/smoothing.h"
 
-#include <algorithm>
 #include <vector>
+
+#include "varsfm/mesh/mesh_topology.h"
 
 namespace varsfm {
 
 void TaubinSmooth(int iterations, TriangleMesh* mesh, double lambda, double mu) {
   const size_t n = mesh->vertices.size();
-  // Each vertex's edge neighbours, sorted and unique (so sums run in a fixed order).
-  std::vector<std::vector<int>> neighbours(n);
-  for (const Eigen::Vector3i& f : mesh->faces)
-    for (int k = 0; k < 3; ++k) {
-      neighbours[f[k]].push_back(f[(k + 1) % 3]);
-      neighbours[f[k]].push_back(f[(k + 2) % 3]);
-    }
-  for (std::vector<int>& list : neighbours) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
+  const std::vector<std::vector<int>> neighbours = VertexNeighbours(*mesh);
   std::vector<Eigen::Vector3d> moved(n);
   const auto step = [&](double factor) {
     for (size_t i = 0; i < n; ++i) {

@@ -33,6 +33,11 @@ void AttachVisibility(const PointVisibility& visibility, const Reconstruction& m
   }
 }
 
+std::filesystem::path SparseModelFolder(const std::filesystem::path& file,
+                                        const std::filesystem::path& sparse) {
+  return sparse.empty() ? file.parent_path() / "sparse" : sparse;
+}
+
 SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod method,
                               const std::filesystem::path& sparse, int holdout, size_t max_points) {
   if (!std::filesystem::is_regular_file(file)) Fail("{}: no such point cloud", file.string());
@@ -55,7 +60,7 @@ SurfaceInput ReadSurfaceInput(const std::filesystem::path& file, SurfaceMethod m
         "{}: the Delaunay surface needs the points' visibility, in the PLY or beside it as {} "
         "(written by densify); try --method poisson",
         file.string(), vis.filename().string());
-  const std::filesystem::path model_dir = sparse.empty() ? file.parent_path() / "sparse" : sparse;
+  const std::filesystem::path model_dir = SparseModelFolder(file, sparse);
   const bool vis_beside = delaunay && !own_visibility;
   PointCloud& cloud = input.cloud;
   PointVisibility merged_ids;

@@ -32,6 +32,11 @@ struct SurfaceInput {
   std::vector<PosedCamera> views;
 };
 
+// The sparse model beside a cloud: `sparse`, or where `varsfm run` writes it (`file`'s
+// folder/sparse) when `sparse` is empty.
+std::filesystem::path SparseModelFolder(const std::filesystem::path& file,
+                                        const std::filesystem::path& sparse);
+
 // Reads `file`. Throws varsfm::Error (one line naming the file) when it is missing, unreadable or
 // empty, or lacks the normals (Poisson) or visibility (Delaunay) that `method` needs. For the
 // Delaunay surface, the model in `sparse` (a model folder or its parent, io/colmap_model.h; an

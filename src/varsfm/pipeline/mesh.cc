@@ -3,9 +3,13 @@
 #include <algorithm>
 #include <system_error>
 
+#include <opencv2/imgproc.hpp>
+
 #include "varsfm/io/mesh_ply.h"
+#include "varsfm/io/model_photo.h"
 #include "varsfm/io/ply.h"
 #include "varsfm/pipeline/output_folder.h"
+#include "varsfm/pipeline/stage_model.h"
 #include "varsfm/scene/holdout.h"
 #include "varsfm/util/error.h"
 #include "varsfm/util/log.h"
@@ -19,7 +23,38 @@ void MeshOptions::Check() const {
   CheckHoldout(holdout);
   if (max_read_points != 0) CheckAtLeast("--max-read-points", max_read_points, size_t{10});
   surface.Check();
+  refinement.Check();
+  CheckAtLeast("--refinement-max-image-size", refinement_max_image_size, 100);
 }
+
+namespace {
+
+// The registered photos the refinement samples: gray, in [0, 1], longer side at most
+// `max_image_size`, each with its camera at that size.
+std::vector<RefinementView> ReadRefinementViews(const Reconstruction& rec,
+                                                const std::filesystem::path& image_dir,
+                                                int max_image_size) {
+  std::vector<RefinementView> views;
+  for (const auto& [id, image] : rec.images()) {
+    if (!image.registered) continue;
+    const cv::Mat photo = ReadModelPhoto(rec, id, image_dir);
+    cv::Mat gray;
+    cv::cvtColor(photo, gray, cv::COLOR_BGR2GRAY);
+    const double scale =
+        std::min(1.0, static_cast<double>(max_image_size) / std::max(gray.cols, gray.rows));
+    const int width = static_cast<int>(std::lround(gray.cols * scale));
+    const int height = static_cast<int>(std::lround(gray.rows * scale));
+    if (width != gray.cols || height != gray.rows)
+      cv::resize(gray, gray, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+    RefinementView view;
+    gray.convertTo(view.gray, CV_32F, 1.0 / 255);
+    view.camera = {rec.CameraOf(id).Resized(width, height), image.cam_from_world};
+    views.push_back(std::move(view));
+  }
+  return views;
+}
+
+}  // namespace
 
 size_t MergedPointsWithin(size_t bytes, size_t input_points) {
   const size_t input_bytes = input_points * kBytesPerInputPoint;
@@ -50,6 +85,22 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
     mesh = ReconstructSurface(input.cloud, surface, &result.stats, input.views);
   } catch (const Error& e) {
     Fail("{}: {}", options.input.string(), e.what());
+  }
+  if (options.refinement.iterations > 0 && options.image_dir.empty())
+    info("mesh: no photometric refinement (it needs the photos: --images)");
+  if (options.refinement.iterations > 0 && !options.image_dir.empty()) {
+    Timer refinement_timer;
+    const Reconstruction rec =
+        ReadStageModel("mesh", SparseModelFolder(options.input, options.sparse), options.image_dir,
+                       options.holdout, 2);
+    result.refinement = RefinePhotometrically(
+        ReadRefinementViews(rec, options.image_dir, options.refinement_max_image_size),
+        options.refinement, &mesh);
+    info(
+        "mesh: photometric refinement, {} iterations: {} vertices measured at the last, mean "
+        "offset {:.3g}, in {:.1f} s",
+        options.refinement.iterations, result.refinement.measured_vertices,
+        result.refinement.mean_offset, refinement_timer.Seconds());
   }
   output_lock.CreateAndLock();
   RemoveOutputsAfter(options.output, ChainStage::kMesh);

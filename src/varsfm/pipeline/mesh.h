@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "varsfm/mesh/mesh_topology.h"
+#include "varsfm/mesh/photometric_refinement.h"
 #include "varsfm/mesh/surface.h"
 #include "varsfm/mesh/surface_input.h"
 #include "varsfm/util/option_check.h"
@@ -28,6 +29,12 @@ struct MeshOptions {
   // surface.delaunay.max_merged_points 0 stands for the points whose surface fits in three
   // quarters of the usable memory (MergedPointsWithin, util/usable_memory.h).
   SurfaceOptions surface;
+  // Photometric refinement of the surface (mesh/photometric_refinement.h) from the photos in
+  // image_dir, sampled with their longer side at most refinement_max_image_size pixels; none
+  // without image_dir or with 0 iterations.
+  PhotometricRefinementOptions refinement;
+  std::filesystem::path image_dir;
+  int refinement_max_image_size = 2000;
 
   // Throws OptionError (util/option_check.h) for a bad value; files are checked when the stage
   // runs.
@@ -40,6 +47,7 @@ struct MeshSummary {
   double read_voxel = 0;   // where the cloud was read merged, the merge voxel; 0: read whole
   size_t num_vertices = 0;
   size_t num_faces = 0;
+  PhotometricRefinementStats refinement;
   EdgeTopology topology;
   double seconds = 0;
 };

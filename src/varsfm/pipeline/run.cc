@@ -24,6 +24,7 @@ void RunOptions::Check() const {
   map.Check();
   dense.Check();
   surface.Check();
+  refinement.Check();
   texture.Check();
   CheckHoldout(holdout);
   report.data.Check();  // the report's output is this run's, set by RunAll
@@ -193,6 +194,8 @@ RunSummary RunAll(const RunOptions& options, OptionsCheck check) {
     mesh.sparse = options.output / "sparse" / "0";
     mesh.holdout = options.holdout;
     mesh.surface = options.surface;
+    mesh.refinement = options.refinement;
+    mesh.image_dir = image_dir;
     const MeshSummary meshed = RunMesh(mesh, OptionsCheck::kDoneByCaller);
     result.seconds_mesh = meshed.seconds;
     summary["mesh"] = MeshSummaryJson(meshed);

@@ -42,6 +42,7 @@ struct RunOptions {
   RunStage until = RunStage::kTexture;  // the last stage run
   DenseReconstructionOptions dense;
   SurfaceOptions surface;
+  PhotometricRefinementOptions refinement;  // of the surface, from the input's photos
   TextureMappingOptions texture;
   // Every N-th registered image by name is kept out of densify and texture, and the textured
   // model is scored on those views at the end (scene/holdout.h); 0: none.

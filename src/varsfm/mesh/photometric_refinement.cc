@@ -1,0 +1,243 @@
+#include "varsfm/mesh/photometric_refinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+
+#include "varsfm/dense/window_warp.h"
+#include "varsfm/geometry/rasterizer.h"
+#include "varsfm/mesh/mesh_topology.h"
+#include "varsfm/util/option_check.h"
+
+namespace varsfm {
+
+void PhotometricRefinementOptions::Check() const {
+  CheckInRange("--photometric-refinement", iterations, 0, 10);
+  CheckInRange("photometric refinement offsets", offsets, 1, 20);
+  CheckPositive("photometric refinement step", step);
+  CheckInRange("photometric refinement window radius", window_radius, 1, 10);
+  CheckAtLeast("photometric refinement views", max_views, 2);
+  CheckInRange("photometric refinement minimum views", min_views, 2, max_views);
+  CheckInRange("photometric refinement minimum NCC", min_ncc, -1.0, 1.0);
+  CheckNonNegative("photometric refinement NCC gain", min_ncc_gain);
+  CheckFraction("photometric refinement minimum cosine", min_cos_angle);
+  CheckPositive("photometric refinement depth tolerance", depth_tolerance);
+}
+
+namespace {
+
+// Area-weighted vertex normals (the faces' cross products summed, faces counter-clockwise seen
+// from outside); zero for a vertex in no face.
+std::vector<Eigen::Vector3d> VertexNormals(const TriangleMesh& mesh) {
+  std::vector<Eigen::Vector3d> normals(mesh.vertices.size(), Eigen::Vector3d::Zero());
+  for (const Eigen::Vector3i& f : mesh.faces) {
+    const Eigen::Vector3d& a = mesh.vertices[f[0]];
+    const Eigen::Vector3d n = (mesh.vertices[f[1]] - a).cross(mesh.vertices[f[2]] - a);
+    for (int k = 0; k < 3; ++k) normals[f[k]] += n;
+  }
+  for (Eigen::Vector3d& n : normals)
+    if (n.squaredNorm() > 0) n.normalize();
+  return normals;
+}
+
+// The views that see each vertex, most frontal first: `count` per vertex in slots of max_views.
+struct VertexViews {
+  int max_views = 0;
+  std::vector<int> count;
+  std::vector<float> cosine;
+  std::vector<uint32_t> view;
+};
+
+// A vertex is seen by a view when it projects inside it, in front of (or on) the nearest face of
+// the mesh's z-buffer there, and its normal makes an angle with the direction to the view's
+// centre whose cosine is min_cos_angle or more.
+VertexViews FindVertexViews(const std::vector<RefinementView>& views, const TriangleMesh& mesh,
+                            const std::vector<Eigen::Vector3d>& normals,
+                            const PhotometricRefinementOptions& options) {
+  const size_t n = mesh.vertices.size();
+  VertexViews seen;
+  seen.max_views = options.max_views;
+  seen.count.assign(n, 0);
+  seen.cosine.assign(n * options.max_views, 0.f);
+  seen.view.assign(n * options.max_views, 0);
+  std::vector<ProjectedVertex> projected;
+  for (uint32_t v = 0; v < views.size(); ++v) {
+    const PosedCamera& camera = views[v].camera;
+    const int width = views[v].gray.cols, height = views[v].gray.rows;
+    ProjectVertices(mesh.vertices, camera.camera, camera.cam_from_world, 1.0, &projected);
+    const FaceRaster raster = RasterizeFaces(projected, mesh.faces, width, height);
+    const Eigen::Vector3d centre = camera.cam_from_world.Center();
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+      const ProjectedVertex& p = projected[i];
+      if (p.depth <= 0 || normals[i].squaredNorm() == 0) return;
+      const int x = static_cast<int>(std::floor(p.pixel.x()));
+      const int y = static_cast<int>(std::floor(p.pixel.y()));
+      if (x < 0 || y < 0 || x >= width || y >= height) return;
+      if (p.depth > raster.DepthAt(x, y) * (1 + options.depth_tolerance)) return;
+      // Either side: not every surface method orients its faces consistently (rasterizer.h).
+      const float cosine =
+          static_cast<float>(std::abs(normals[i].dot((centre - mesh.vertices[i]).normalized())));
+      if (cosine < options.min_cos_angle) return;
+      // Insertion into the vertex's sorted slots; views come in ascending order, so among equal
+      // cosines the earlier view stays first.
+      float* cos_slots = &seen.cosine[i * options.max_views];
+      uint32_t* view_slots = &seen.view[i * options.max_views];
+      int& count = seen.count[i];
+      int k = std::min(count, options.max_views - 1);
+      if (count == options.max_views && cos_slots[k] >= cosine) return;
+      while (k > 0 && cos_slots[k - 1] < cosine) {
+        cos_slots[k] = cos_slots[k - 1];
+        view_slots[k] = view_slots[k - 1];
+        --k;
+      }
+      cos_slots[k] = cosine;
+      view_slots[k] = v;
+      count = std::min(count + 1, options.max_views);
+    });
+  }
+  return seen;
+}
+
+// Zero-mean NCC of two sample sets; NaN when either is flat.
+double Ncc(const std::vector<float>& a, const std::vector<float>& b) {
+  const double m = static_cast<double>(a.size());
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sa += a[i];
+    sb += b[i];
+    saa += a[i] * a[i];
+    sbb += b[i] * b[i];
+    sab += a[i] * b[i];
+  }
+  const double va = saa - sa * sa / m, vb = sbb - sb * sb / m;
+  constexpr double kFlat = 1e-6;  // per sample, intensities in [0, 1]
+  if (va < kFlat * m || vb < kFlat * m) return std::numeric_limits<double>::quiet_NaN();
+  return (sab - sa * sb / m) / std::sqrt(va * vb);
+}
+
+// The offset along the normal at which one vertex's views agree best, where it was measured.
+struct VertexOffset {
+  double offset = 0;
+  bool measured = false;
+};
+
+VertexOffset MeasureOffset(const std::vector<RefinementView>& views, const VertexViews& seen,
+                           size_t vertex, const Eigen::Vector3d& point,
+                           const Eigen::Vector3d& normal, double step_pixels,
+                           const PhotometricRefinementOptions& options) {
+  const int count = seen.count[vertex];
+  if (count < options.min_views) return {};
+  const uint32_t* view_ids = &seen.view[vertex * seen.max_views];
+  const PosedCamera& reference = views[view_ids[0]].camera;
+  const double depth = (reference.cam_from_world * point).z();
+  const double pixel = depth / reference.camera.focal();  // one reference pixel at the vertex
+  const double step = step_pixels * pixel;
+  const Eigen::Vector3d u = normal.unitOrthogonal() * pixel;
+  const Eigen::Vector3d w = normal.cross(u);
+  const int r = options.window_radius, side = 2 * r + 1;
+  const size_t samples = static_cast<size_t>(side) * side;
+
+  const int num_offsets = 2 * options.offsets + 1;
+  std::vector<double> score(num_offsets, std::numeric_limits<double>::quiet_NaN());
+  std::vector<std::vector<float>> values(count, std::vector<float>(samples));
+  for (int k = 0; k < num_offsets; ++k) {
+    const Eigen::Vector3d centre = point + (k - options.offsets) * step * normal;
+    std::vector<bool> inside(count, true);
+    for (int j = 0; j < count; ++j) {
+      const RefinementView& view = views[view_ids[j]];
+      const WarpSource source{view.gray.ptr<float>(), view.gray.cols, view.gray.rows};
+      // The patch in the view's camera frame: its centre and its two sample steps.
+      const Eigen::Vector3d c = view.camera.cam_from_world * centre;
+      const Eigen::Vector3d du = view.camera.cam_from_world.rotation * u;
+      const Eigen::Vector3d dw = view.camera.cam_from_world.rotation * w;
+      size_t s = 0;
+      for (int b = -r; b <= r && inside[j]; ++b)
+        for (int a = -r; a <= r; ++a, ++s) {
+          const Eigen::Vector3d in_camera = c + a * du + b * dw;
+          if (in_camera.z() <= 0) {
+            inside[j] = false;
+            break;
+          }
+          const Eigen::Vector2d p = view.camera.camera.Project(in_camera);
+          if (p.x() < 0 || p.y() < 0 || p.x() > source.width || p.y() > source.height) {
+            inside[j] = false;
+            break;
+          }
+          values[j][s] =
+              SampleBilinear(source, static_cast<float>(p.x()), static_cast<float>(p.y()));
+        }
+    }
+    if (!inside[0]) continue;
+    double sum = 0;
+    int used = 0;
+    for (int j = 1; j < count; ++j) {
+      if (!inside[j]) continue;
+      const double ncc = Ncc(values[0], values[j]);
+      if (std::isnan(ncc)) continue;
+      sum += ncc;
+      ++used;
+    }
+    if (used > 0) score[k] = sum / used;
+  }
+  int best = -1;
+  for (int k = 0; k < num_offsets; ++k)
+    if (!std::isnan(score[k]) && (best < 0 || score[k] > score[best])) best = k;
+  const double here = score[options.offsets];
+  // A best offset at the end of the range may lie beyond it: not measured (the next iteration
+  // starts from where the neighbours moved it).
+  if (best <= 0 || best + 1 >= num_offsets || std::isnan(here) || score[best] < options.min_ncc ||
+      (best != options.offsets && score[best] < here + options.min_ncc_gain))
+    return {};
+  double sub = 0;  // the parabola through the best score and its neighbours
+  if (!std::isnan(score[best - 1]) && !std::isnan(score[best + 1])) {
+    const double curvature = score[best - 1] - 2 * score[best] + score[best + 1];
+    if (curvature < 0)
+      sub = std::clamp(0.5 * (score[best - 1] - score[best + 1]) / curvature, -0.5, 0.5);
+  }
+  return {(best - options.offsets + sub) * step, true};
+}
+
+}  // namespace
+
+PhotometricRefinementStats RefinePhotometrically(const std::vector<RefinementView>& views,
+                                                 const PhotometricRefinementOptions& options,
+                                                 TriangleMesh* mesh) {
+  PhotometricRefinementStats stats;
+  if (options.iterations == 0 || views.size() < 2 || mesh->faces.empty()) return stats;
+  const size_t n = mesh->vertices.size();
+  const std::vector<std::vector<int>> neighbours = VertexNeighbours(*mesh);
+  double total_offset = 0;
+  for (int iteration = 0; iteration < options.iterations; ++iteration) {
+    const std::vector<Eigen::Vector3d> normals = VertexNormals(*mesh);
+    const VertexViews seen = FindVertexViews(views, *mesh, normals, options);
+    const double step_pixels = options.step / static_cast<double>(1 << iteration);
+    std::vector<VertexOffset> measured(n);
+    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
+      measured[i] =
+          MeasureOffset(views, seen, i, mesh->vertices[i], normals[i], step_pixels, options);
+    });
+    // Each vertex moves by the median of its own and its neighbours' measured offsets: the
+    // smoothness that keeps the surface a surface, robust to a neighbour matched wrongly.
+    stats.measured_vertices = 0;
+    std::vector<double> around;
+    for (size_t i = 0; i < n; ++i) {
+      if (measured[i].measured) ++stats.measured_vertices;
+      around.clear();
+      if (measured[i].measured) around.push_back(measured[i].offset);
+      for (int j : neighbours[i])
+        if (measured[j].measured) around.push_back(measured[j].offset);
+      if (around.empty()) continue;
+      const auto middle = around.begin() + around.size() / 2;
+      std::nth_element(around.begin(), middle, around.end());
+      const double offset = *middle;
+      mesh->vertices[i] += offset * normals[i];
+      total_offset += std::abs(offset);
+    }
+  }
+  stats.mean_offset = total_offset / (static_cast<double>(n) * options.iterations);
+  return stats;
+}
+
+}  // namespace varsfm
