@@ -7,7 +7,6 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
-#include <opencv2/imgproc.hpp>
 
 #include "varsfm/synthetic/rendered_scene.h"
 #include "varsfm/synthetic/rendered_truth.h"
@@ -76,14 +75,8 @@ double MeanPlaneDistance(const TriangleMesh& mesh, const std::vector<SurfaceQuad
 
 std::vector<RefinementView> ViewsOf(const RenderedScene& scene) {
   std::vector<RefinementView> views;
-  for (size_t i = 0; i < scene.images.size(); ++i) {
-    RefinementView view;
-    cv::Mat gray;
-    cv::cvtColor(scene.images[i], gray, cv::COLOR_BGR2GRAY);
-    gray.convertTo(view.gray, CV_32F, 1.0 / 255);
-    view.camera = {scene.cameras[i], scene.poses[i]};
-    views.push_back(std::move(view));
-  }
+  for (size_t i = 0; i < scene.images.size(); ++i)
+    views.push_back(RefinementViewOf(scene.images[i], {scene.cameras[i], scene.poses[i]}));
   return views;
 }
 

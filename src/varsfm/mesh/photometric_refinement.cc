@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <tbb/parallel_for.h>
+#include <opencv2/imgproc.hpp>
 
 #include "varsfm/dense/window_warp.h"
 #include "varsfm/geometry/rasterizer.h"
@@ -24,6 +25,15 @@ void PhotometricRefinementOptions::Check() const {
   CheckNonNegative("photometric refinement NCC gain", min_ncc_gain);
   CheckFraction("photometric refinement minimum cosine", min_cos_angle);
   CheckPositive("photometric refinement depth tolerance", depth_tolerance);
+}
+
+RefinementView RefinementViewOf(const cv::Mat& photo, const PosedCamera& camera) {
+  cv::Mat gray = photo;
+  if (photo.channels() == 3) cv::cvtColor(photo, gray, cv::COLOR_BGR2GRAY);
+  RefinementView view;
+  gray.convertTo(view.gray, CV_32F, 1.0 / 255);
+  view.camera = camera;
+  return view;
 }
 
 namespace {

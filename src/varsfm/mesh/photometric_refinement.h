@@ -57,6 +57,9 @@ struct RefinementView {
   PosedCamera camera;
 };
 
+// The view of `photo` (8-bit, BGR or gray) taken from `camera` (at the photo's size).
+RefinementView RefinementViewOf(const cv::Mat& photo, const PosedCamera& camera);
+
 struct PhotometricRefinementStats {
   size_t measured_vertices = 0;  // at the last iteration: vertices whose offset was measured
   double mean_offset = 0;  // mean |applied offset| over all vertices and iterations, scene units

@@ -1,6 +1,7 @@
 #include "varsfm/pipeline/mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <system_error>
 
 #include <opencv2/imgproc.hpp>
@@ -30,26 +31,43 @@ void MeshOptions::Check() const {
 namespace {
 
 // The registered photos the refinement samples: gray, in [0, 1], longer side at most
-// `max_image_size`, each with its camera at that size.
+// `max_image_size`, each with its camera at that size; all of them smaller by the same factor
+// where they would take more than `max_bytes` together (a large capture on a small machine).
 std::vector<RefinementView> ReadRefinementViews(const Reconstruction& rec,
                                                 const std::filesystem::path& image_dir,
-                                                int max_image_size) {
+                                                int max_image_size, size_t max_bytes) {
+  const auto size_scale = [&](const Camera& camera) {
+    return std::min(1.0,
+                    static_cast<double>(max_image_size) / std::max(camera.width, camera.height));
+  };
+  double bytes = 0;
+  for (const auto& [id, image] : rec.images())
+    if (image.registered) {
+      const Camera& camera = rec.CameraOf(id);
+      const double scale = size_scale(camera);
+      bytes += sizeof(float) * scale * scale * camera.width * camera.height;
+    }
+  const double memory_scale = bytes > static_cast<double>(max_bytes)
+                                  ? std::sqrt(static_cast<double>(max_bytes) / bytes)
+                                  : 1.0;
+  if (memory_scale < 1)
+    info(
+        "mesh: the photometric refinement samples the photos at {:.0f} % of {} px, to hold them "
+        "in {} MB",
+        100 * memory_scale, max_image_size, max_bytes >> 20);
   std::vector<RefinementView> views;
   for (const auto& [id, image] : rec.images()) {
     if (!image.registered) continue;
     const cv::Mat photo = ReadModelPhoto(rec, id, image_dir);
     cv::Mat gray;
     cv::cvtColor(photo, gray, cv::COLOR_BGR2GRAY);
-    const double scale =
-        std::min(1.0, static_cast<double>(max_image_size) / std::max(gray.cols, gray.rows));
-    const int width = static_cast<int>(std::lround(gray.cols * scale));
-    const int height = static_cast<int>(std::lround(gray.rows * scale));
+    const double scale = size_scale(rec.CameraOf(id)) * memory_scale;
+    const int width = std::max(1, static_cast<int>(std::lround(gray.cols * scale)));
+    const int height = std::max(1, static_cast<int>(std::lround(gray.rows * scale)));
     if (width != gray.cols || height != gray.rows)
       cv::resize(gray, gray, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-    RefinementView view;
-    gray.convertTo(view.gray, CV_32F, 1.0 / 255);
-    view.camera = {rec.CameraOf(id).Resized(width, height), image.cam_from_world};
-    views.push_back(std::move(view));
+    views.push_back(
+        RefinementViewOf(gray, {rec.CameraOf(id).Resized(width, height), image.cam_from_world}));
   }
   return views;
 }
@@ -94,7 +112,8 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
         ReadStageModel("mesh", SparseModelFolder(options.input, options.sparse), options.image_dir,
                        options.holdout, 2);
     result.refinement = RefinePhotometrically(
-        ReadRefinementViews(rec, options.image_dir, options.refinement_max_image_size),
+        ReadRefinementViews(rec, options.image_dir, options.refinement_max_image_size,
+                            UsableMemoryBytes() / 4),
         options.refinement, &mesh);
     info(
         "mesh: photometric refinement, {} iterations: {} vertices measured at the last, mean "

@@ -30,8 +30,9 @@ struct MeshOptions {
   // quarters of the usable memory (MergedPointsWithin, util/usable_memory.h).
   SurfaceOptions surface;
   // Photometric refinement of the surface (mesh/photometric_refinement.h) from the photos in
-  // image_dir, sampled with their longer side at most refinement_max_image_size pixels; none
-  // without image_dir or with 0 iterations.
+  // image_dir, sampled with their longer side at most refinement_max_image_size pixels (smaller
+  // where they would take more than a quarter of the usable memory together); none without
+  // image_dir or with 0 iterations.
   PhotometricRefinementOptions refinement;
   std::filesystem::path image_dir;
   int refinement_max_image_size = 2000;
