@@ -89,6 +89,14 @@ class PhotometricRefinementTest : public ::testing::Test {
     scene_ = new RenderedScene(RenderSyntheticScene(options));
   }
   static void TearDownTestSuite() { delete scene_; }
+  // Per vertex of a GridOfQuads mesh: SeenWell.
+  static std::vector<bool> SeenWellMask(const TriangleMesh& mesh,
+                                        const std::vector<size_t>& quad_of) {
+    std::vector<bool> seen(mesh.vertices.size());
+    for (size_t i = 0; i < seen.size(); ++i)
+      seen[i] = SeenWell(*scene_, scene_->surface[quad_of[i]], mesh.vertices[i]);
+    return seen;
+  }
   static RenderedScene* scene_;
 };
 RenderedScene* PhotometricRefinementTest::scene_ = nullptr;
@@ -96,9 +104,7 @@ RenderedScene* PhotometricRefinementTest::scene_ = nullptr;
 TEST_F(PhotometricRefinementTest, BringsVerticesPushedOffTheSurfaceBack) {
   std::vector<size_t> quad_of;
   TriangleMesh mesh = GridOfQuads(scene_->surface, 40, &quad_of);
-  std::vector<bool> seen(mesh.vertices.size());
-  for (size_t i = 0; i < seen.size(); ++i)
-    seen[i] = SeenWell(*scene_, scene_->surface[quad_of[i]], mesh.vertices[i]);
+  const std::vector<bool> seen = SeenWellMask(mesh, quad_of);
   // A smooth bump field along each quad's normal, up to 1 cm (1 to 2 pixels at the scene's
   // depths), as a surface that the cut and the smoothing left a little off.
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
@@ -120,9 +126,7 @@ TEST_F(PhotometricRefinementTest, BringsVerticesPushedOffTheSurfaceBack) {
 TEST_F(PhotometricRefinementTest, LeavesTheTrueSurfaceWhereItIs) {
   std::vector<size_t> quad_of;
   TriangleMesh mesh = GridOfQuads(scene_->surface, 40, &quad_of);
-  std::vector<bool> seen(mesh.vertices.size());
-  for (size_t i = 0; i < seen.size(); ++i)
-    seen[i] = SeenWell(*scene_, scene_->surface[quad_of[i]], mesh.vertices[i]);
+  const std::vector<bool> seen = SeenWellMask(mesh, quad_of);
   PhotometricRefinementOptions options;
   options.iterations = 3;
   RefinePhotometrically(ViewsOf(*scene_), options, &mesh);
