@@ -51,6 +51,13 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
   EXPECT_LT(mesh["relative_distance"].get<double>(), 0.005) << mesh;
   EXPECT_NEAR(mesh["relative_distance"].get<double>(),
               mesh["median_distance"].get<double>() / mesh["extent"].get<double>(), 1e-12);
+  // A tenth of the vertices or more measured, none sent far: the mean move is under a hundredth
+  // of the cloud's extent.
+  EXPECT_GT(mesh["refinement"]["measured_vertices"].get<double>(),
+            0.1 * mesh["surface_points"].get<double>())
+      << mesh;
+  EXPECT_LT(mesh["refinement"]["mean_offset"].get<double>(), 0.01 * mesh["extent"].get<double>())
+      << mesh;
 
   // The other surface on the same points: the mesh check passes (exit 0) and the mesh is not
   // tiny.

@@ -153,6 +153,11 @@ nlohmann::json MeshSummaryJson(const MeshSummary& result) {
     json["merge_spacing"] = result.stats.delaunay.merge_voxel / result.stats.average_spacing;
   // A cloud larger than the memory: read merged at this voxel (scene units) before all else.
   if (result.read_voxel > 0) json["read_merge_voxel"] = result.read_voxel;
+  // The photometric refinement, where it ran: vertices measured at its last iteration, and the
+  // mean distance a vertex moved per iteration (scene units).
+  if (result.refinement.measured_vertices > 0)
+    json["refinement"] = {{"measured_vertices", result.refinement.measured_vertices},
+                          {"mean_offset", result.refinement.mean_offset}};
   return json;
 }
 

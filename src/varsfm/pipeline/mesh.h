@@ -77,8 +77,8 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check = OptionsChec
 
 // The figures summary.json keeps of a mesh stage: points (in the file), the points the surface
 // was made of (merged or downsampled), octree depth, vertices, faces, median vertex-to-point
-// distance, the cloud's extent, their ratio, seconds, the Delaunay surface's merge spacing, and
-// the voxel of a cloud read merged.
+// distance, the cloud's extent, their ratio, seconds, the Delaunay surface's merge spacing, the
+// voxel of a cloud read merged, and the photometric refinement's figures.
 nlohmann::json MeshSummaryJson(const MeshSummary& result);
 
 }  // namespace varsfm
