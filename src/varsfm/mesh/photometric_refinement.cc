@@ -228,9 +228,12 @@ PhotometricRefinementStats RefinePhotometrically(const std::vector<RefinementVie
       measured[i] =
           MeasureOffset(views, seen, i, mesh->vertices[i], normals[i], step_pixels, options);
     });
-    // Each vertex moves by the median of its own and its neighbours' measured offsets: the
-    // smoothness that keeps the surface a surface, robust to a neighbour matched wrongly.
+    // Each vertex's offset: the median of its own and its neighbours' measured offsets (robust to
+    // one matched wrongly), then averaged with its neighbours' medians, so the moves vary smoothly
+    // from vertex to vertex and leave the faces' orientations as smooth as they were.
     stats.measured_vertices = 0;
+    std::vector<double> median(n, 0.0);
+    std::vector<bool> has(n, false);
     std::vector<double> around;
     for (size_t i = 0; i < n; ++i) {
       if (measured[i].measured) ++stats.measured_vertices;
@@ -241,7 +244,16 @@ PhotometricRefinementStats RefinePhotometrically(const std::vector<RefinementVie
       if (around.empty()) continue;
       const auto middle = around.begin() + around.size() / 2;
       std::nth_element(around.begin(), middle, around.end());
-      const double offset = *middle;
+      median[i] = *middle;
+      has[i] = true;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      if (!has[i]) continue;
+      double sum = median[i];
+      int count = 1;
+      for (int j : neighbours[i])
+        if (has[j]) sum += median[j], ++count;
+      const double offset = sum / count;
       mesh->vertices[i] += offset * normals[i];
       total_offset += std::abs(offset);
     }
