@@ -11,10 +11,11 @@
 // highest mean zero-mean NCC between the reference's samples and each other view's wins -- the
 // normal-direction search with which PMVS refines its patches (Furukawa & Ponce, "Accurate,
 // dense, and robust multiview stereopsis", PAMI 2010, sec. 3.1.1), here on the mesh's own normals.
-// Each vertex then moves by the median of its own and its neighbours' winning offsets (the
-// smoothness term of the variational refinement of Vu, Labatut, Pons & Keriven, PAMI 2012, in
-// its simplest form, robust to a neighbour matched wrongly), so that the surface moves as a
-// surface and a vertex no view measures follows its neighbours. Visibility comes from the mesh
+// Each vertex then moves by the mean, over itself and its neighbours, of the medians of their
+// own and their neighbours' winning offsets (the smoothness term of the variational refinement
+// of Vu, Labatut, Pons & Keriven, PAMI 2012, in its simplest form, robust to a neighbour matched
+// wrongly), so that the surface moves as a surface and a vertex no view measures follows its
+// neighbours. Visibility comes from the mesh
 // itself: a z-buffer per view (geometry/rasterizer.h), drawn again at each iteration. Each
 // iteration halves the offsets' step: the first reaches a few pixels, the next refine.
 #include <cstddef>
