@@ -72,6 +72,25 @@ TEST(MeshStage, KermitGivesAMeshOnItsDensePoints) {
 
   // `mesh` without the photos makes no photometric refinement, and says so.
   EXPECT_NE(log.find("no photometric refinement"), std::string::npos) << log;
+
+  // With a photo missing from --images: one line naming it, before the surface is built.
+  const auto partial = tmp.path() / "partial";
+  std::filesystem::create_directories(partial);
+  for (const auto& entry : std::filesystem::directory_iterator(kermit))
+    if (entry.path().filename() != "kermit005.jpg")
+      std::filesystem::copy_file(entry.path(), partial / entry.path().filename());
+  EXPECT_EQ(RunCommand(fmt::format("{} mesh --input {} --output {} --images {}",
+                                   testing::ShellQuote(VarsfmBinary()),
+                                   testing::ShellQuote(out / "dense.ply"),
+                                   testing::ShellQuote(tmp.path() / "partial_mesh"),
+                                   testing::ShellQuote(partial)),
+                       &log),
+            1)
+      << log;
+  EXPECT_NE(log.find("registered photos are not in"), std::string::npos) << log;
+  EXPECT_NE(log.find("(the first: kermit005.jpg)"), std::string::npos) << log;
+  EXPECT_EQ(log.find("surface:"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / "partial_mesh" / "mesh.ply"));
 }
 
 }  // namespace

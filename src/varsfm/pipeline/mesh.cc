@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <system_error>
 
 #include <opencv2/imgproc.hpp>
@@ -92,6 +93,13 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   const SurfaceInput input = ReadSurfaceInput(
       options.input, options.surface.method, options.sparse, options.holdout,
       options.max_read_points > 0 ? options.max_read_points : InputPointsWithin(memory));
+  // The refinement's model and photos are looked for before the surface is built: a wrong
+  // --images fails at once, not after it.
+  const bool refine = options.refinement.iterations > 0 && !options.image_dir.empty();
+  std::optional<Reconstruction> refinement_model;
+  if (refine)
+    refinement_model = ReadStageModel("mesh", SparseModelFolder(options.input, options.sparse),
+                                      options.image_dir, options.holdout, 2);
   SurfaceOptions surface = options.surface;
   if (surface.delaunay.max_merged_points == 0)
     surface.delaunay.max_merged_points = MergedPointsWithin(memory, input.cloud.points.size());
@@ -106,13 +114,10 @@ MeshSummary RunMesh(const MeshOptions& options, OptionsCheck check) {
   }
   if (options.refinement.iterations > 0 && options.image_dir.empty())
     info("mesh: no photometric refinement (it needs the photos: --images)");
-  if (options.refinement.iterations > 0 && !options.image_dir.empty()) {
+  if (refine) {
     Timer refinement_timer;
-    const Reconstruction rec =
-        ReadStageModel("mesh", SparseModelFolder(options.input, options.sparse), options.image_dir,
-                       options.holdout, 2);
     result.refinement = RefinePhotometrically(
-        ReadRefinementViews(rec, options.image_dir, options.refinement_max_image_size,
+        ReadRefinementViews(*refinement_model, options.image_dir, options.refinement_max_image_size,
                             UsableMemoryBytes() / 4),
         options.refinement, &mesh);
     info(

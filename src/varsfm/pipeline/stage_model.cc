@@ -1,6 +1,7 @@
 #include "varsfm/pipeline/stage_model.h"
 
 #include <string>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -29,6 +30,17 @@ Reconstruction ReadStageModel(std::string_view stage, const std::filesystem::pat
              ? fmt::format(", {} left once --holdout {} keeps {} out", left, holdout, held_out)
              : std::string(),
          stage, min_images);
+  size_t missing = 0;
+  std::string first_missing;
+  for (const auto& [id, image] : rec.images()) {
+    std::error_code error;
+    if (!image.registered || std::filesystem::is_regular_file(image_dir / image.name, error))
+      continue;
+    if (missing++ == 0) first_missing = image.name;
+  }
+  if (missing > 0)
+    Fail("{}: {} of the model's {} registered photos are not in {} (the first: {})", stage, missing,
+         left, image_dir.string(), first_missing);
   return rec;
 }
 
