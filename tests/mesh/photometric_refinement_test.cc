@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 #include <Eigen/Geometry>
 
 #include "varsfm/synthetic/rendered_scene.h"
@@ -146,6 +147,26 @@ TEST_F(PhotometricRefinementTest, NoIterationsOrOneViewChangeNothing) {
   options.iterations = 2;
   RefinePhotometrically({ViewsOf(*scene_)[0]}, options, &refined);
   EXPECT_EQ(refined.vertices, mesh.vertices);
+}
+
+// The views are searched in parallel batches: one thread and all give the same vertices, with
+// every view given twice (more views than a batch, and ties between equally frontal views).
+TEST_F(PhotometricRefinementTest, SameVerticesWhateverTheThreadCount) {
+  std::vector<size_t> quad_of;
+  TriangleMesh mesh = GridOfQuads(scene_->surface, 20, &quad_of);
+  for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    mesh.vertices[i] +=
+        0.005 * std::sin(0.1 * static_cast<double>(i)) * QuadNormal(scene_->surface[quad_of[i]]);
+  std::vector<RefinementView> views = ViewsOf(*scene_);
+  const std::vector<RefinementView> again = views;
+  views.insert(views.end(), again.begin(), again.end());
+  PhotometricRefinementOptions options;
+  TriangleMesh one_thread = mesh, all_threads = mesh;
+  tbb::task_arena(1).execute([&] { RefinePhotometrically(views, options, &one_thread); });
+  const PhotometricRefinementStats stats = RefinePhotometrically(views, options, &all_threads);
+  EXPECT_GT(stats.measured_vertices, 0u);
+  EXPECT_NE(all_threads.vertices, mesh.vertices);
+  EXPECT_EQ(one_thread.vertices, all_threads.vertices);
 }
 
 TEST(PhotometricRefinementOptions, CheckRejectsBadValues) {

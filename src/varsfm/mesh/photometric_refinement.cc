@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
@@ -62,7 +63,35 @@ struct VertexViews {
 
 // A vertex is seen by a view when it projects inside it, in front of (or on) the nearest face of
 // the mesh's z-buffer there, and its normal makes an angle with the direction to the view's
-// centre whose cosine is min_cos_angle or more.
+// centre whose cosine is min_cos_angle or more. Appends (vertex, cosine) for each, in vertex
+// order.
+void SeenInView(const RefinementView& view, const TriangleMesh& mesh,
+                const std::vector<Eigen::Vector3d>& normals,
+                const PhotometricRefinementOptions& options,
+                std::vector<std::pair<uint32_t, float>>* seen) {
+  const PosedCamera& camera = view.camera;
+  const int width = view.gray.cols, height = view.gray.rows;
+  const std::vector<ProjectedVertex> projected =
+      ProjectVertices(mesh.vertices, camera.camera, camera.cam_from_world);
+  const FaceRaster raster = RasterizeFaces(projected, mesh.faces, width, height);
+  const Eigen::Vector3d centre = camera.cam_from_world.Center();
+  for (size_t i = 0; i < projected.size(); ++i) {
+    const ProjectedVertex& p = projected[i];
+    if (p.depth <= 0 || normals[i].squaredNorm() == 0) continue;
+    const int x = static_cast<int>(std::floor(p.pixel.x()));
+    const int y = static_cast<int>(std::floor(p.pixel.y()));
+    if (x < 0 || y < 0 || x >= width || y >= height) continue;
+    if (p.depth > raster.DepthAt(x, y) * (1 + options.depth_tolerance)) continue;
+    // Either side: not every surface method orients its faces consistently (rasterizer.h).
+    const float cosine =
+        static_cast<float>(std::abs(normals[i].dot((centre - mesh.vertices[i]).normalized())));
+    if (cosine >= options.min_cos_angle) seen->emplace_back(static_cast<uint32_t>(i), cosine);
+  }
+}
+
+// Every vertex's max_views most frontal views (SeenInView). The views are drawn in parallel a
+// batch at a time and offered to the vertices in view order, so that ties go to the earlier view
+// whatever the thread count, and only one batch's lists are held at once.
 VertexViews FindVertexViews(const std::vector<RefinementView>& views, const TriangleMesh& mesh,
                             const std::vector<Eigen::Vector3d>& normals,
                             const PhotometricRefinementOptions& options) {
@@ -72,40 +101,32 @@ VertexViews FindVertexViews(const std::vector<RefinementView>& views, const Tria
   seen.count.assign(n, 0);
   seen.cosine.assign(n * options.max_views, 0.f);
   seen.view.assign(n * options.max_views, 0);
-  std::vector<ProjectedVertex> projected;
-  for (uint32_t v = 0; v < views.size(); ++v) {
-    const PosedCamera& camera = views[v].camera;
-    const int width = views[v].gray.cols, height = views[v].gray.rows;
-    ProjectVertices(mesh.vertices, camera.camera, camera.cam_from_world, 1.0, &projected);
-    const FaceRaster raster = RasterizeFaces(projected, mesh.faces, width, height);
-    const Eigen::Vector3d centre = camera.cam_from_world.Center();
-    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-      const ProjectedVertex& p = projected[i];
-      if (p.depth <= 0 || normals[i].squaredNorm() == 0) return;
-      const int x = static_cast<int>(std::floor(p.pixel.x()));
-      const int y = static_cast<int>(std::floor(p.pixel.y()));
-      if (x < 0 || y < 0 || x >= width || y >= height) return;
-      if (p.depth > raster.DepthAt(x, y) * (1 + options.depth_tolerance)) return;
-      // Either side: not every surface method orients its faces consistently (rasterizer.h).
-      const float cosine =
-          static_cast<float>(std::abs(normals[i].dot((centre - mesh.vertices[i]).normalized())));
-      if (cosine < options.min_cos_angle) return;
-      // Insertion into the vertex's sorted slots; views come in ascending order, so among equal
-      // cosines the earlier view stays first.
-      float* cos_slots = &seen.cosine[i * options.max_views];
-      uint32_t* view_slots = &seen.view[i * options.max_views];
-      int& count = seen.count[i];
-      int k = std::min(count, options.max_views - 1);
-      if (count == options.max_views && cos_slots[k] >= cosine) return;
-      while (k > 0 && cos_slots[k - 1] < cosine) {
-        cos_slots[k] = cos_slots[k - 1];
-        view_slots[k] = view_slots[k - 1];
-        --k;
-      }
-      cos_slots[k] = cosine;
-      view_slots[k] = v;
-      count = std::min(count + 1, options.max_views);
+  // Keeps the vertex's slots sorted by cosine, the earlier view first among equals.
+  const auto offer = [&](uint32_t i, uint32_t v, float cosine) {
+    float* cos_slots = &seen.cosine[i * options.max_views];
+    uint32_t* view_slots = &seen.view[i * options.max_views];
+    int& count = seen.count[i];
+    int k = std::min(count, options.max_views - 1);
+    if (count == options.max_views && cos_slots[k] >= cosine) return;
+    while (k > 0 && cos_slots[k - 1] < cosine) {
+      cos_slots[k] = cos_slots[k - 1];
+      view_slots[k] = view_slots[k - 1];
+      --k;
+    }
+    cos_slots[k] = cosine;
+    view_slots[k] = v;
+    count = std::min(count + 1, options.max_views);
+  };
+  constexpr size_t kBatch = 8;
+  std::vector<std::vector<std::pair<uint32_t, float>>> batch(kBatch);
+  for (size_t first = 0; first < views.size(); first += kBatch) {
+    const size_t last = std::min(views.size(), first + kBatch);
+    tbb::parallel_for(first, last, [&](size_t v) {
+      batch[v - first].clear();
+      SeenInView(views[v], mesh, normals, options, &batch[v - first]);
     });
+    for (size_t v = first; v < last; ++v)
+      for (const auto& [i, cosine] : batch[v - first]) offer(i, static_cast<uint32_t>(v), cosine);
   }
   return seen;
 }
