@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
@@ -12,6 +13,7 @@
 #include "varsfm/geometry/rasterizer.h"
 #include "varsfm/mesh/mesh_topology.h"
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 
 namespace varsfm {
 
@@ -91,10 +93,11 @@ void SeenInView(const RefinementView& view, const TriangleMesh& mesh,
 
 // Every vertex's max_views most frontal views (SeenInView). The views are drawn in parallel a
 // batch at a time and offered to the vertices in view order, so that ties go to the earlier view
-// whatever the thread count, and only one batch's lists are held at once.
+// whatever the thread count, and only one batch's lists are held at once. Ticks `progress` once
+// per view.
 VertexViews FindVertexViews(const std::vector<RefinementView>& views, const TriangleMesh& mesh,
                             const std::vector<Eigen::Vector3d>& normals,
-                            const PhotometricRefinementOptions& options) {
+                            const PhotometricRefinementOptions& options, Progress* progress) {
   const size_t n = mesh.vertices.size();
   VertexViews seen;
   seen.max_views = options.max_views;
@@ -124,6 +127,7 @@ VertexViews FindVertexViews(const std::vector<RefinementView>& views, const Tria
     tbb::parallel_for(first, last, [&](size_t v) {
       batch[v - first].clear();
       SeenInView(views[v], mesh, normals, options, &batch[v - first]);
+      progress->Tick();
     });
     for (size_t v = first; v < last; ++v)
       for (const auto& [i, cosine] : batch[v - first]) offer(i, static_cast<uint32_t>(v), cosine);
@@ -240,14 +244,23 @@ PhotometricRefinementStats RefinePhotometrically(const std::vector<RefinementVie
   const size_t n = mesh->vertices.size();
   const std::vector<std::vector<int>> neighbours = VertexNeighbours(*mesh);
   double total_offset = 0;
+  // Per iteration, a tick per view's z-buffer and one per block of vertices measured.
+  Progress progress("mesh: photometric refinement", 2 * views.size() * options.iterations);
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     const std::vector<Eigen::Vector3d> normals = VertexNormals(*mesh);
-    const VertexViews seen = FindVertexViews(views, *mesh, normals, options);
+    progress.SetStatus(fmt::format("iteration {}: views", iteration + 1));
+    const VertexViews seen = FindVertexViews(views, *mesh, normals, options, &progress);
+    progress.SetStatus(fmt::format("iteration {}: offsets", iteration + 1));
     const double step_pixels = options.step / static_cast<double>(1 << iteration);
     std::vector<VertexOffset> measured(n);
-    tbb::parallel_for(size_t{0}, n, [&](size_t i) {
-      measured[i] =
-          MeasureOffset(views, seen, i, mesh->vertices[i], normals[i], step_pixels, options);
+    // In as many blocks of vertices as there are views, so that this half of an iteration
+    // advances the progress as much as the z-buffers did.
+    const size_t block = (n + views.size() - 1) / views.size();
+    tbb::parallel_for(size_t{0}, views.size(), [&](size_t b) {
+      for (size_t i = b * block; i < std::min(n, (b + 1) * block); ++i)
+        measured[i] =
+            MeasureOffset(views, seen, i, mesh->vertices[i], normals[i], step_pixels, options);
+      progress.Tick();
     });
     // Each vertex's offset: the median of its own and its neighbours' measured offsets (robust to
     // one matched wrongly), then averaged with its neighbours' medians, so the moves vary smoothly
