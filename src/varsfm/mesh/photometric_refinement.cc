@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -136,10 +137,10 @@ VertexViews FindVertexViews(const std::vector<RefinementView>& views, const Tria
 }
 
 // Zero-mean NCC of two sample sets; NaN when either is flat.
-double Ncc(const std::vector<float>& a, const std::vector<float>& b) {
-  const double m = static_cast<double>(a.size());
+double Ncc(const float* a, const float* b, size_t size) {
+  const double m = static_cast<double>(size);
   double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
+  for (size_t i = 0; i < size; ++i) {
     sa += a[i];
     sb += b[i];
     saa += a[i] * a[i];
@@ -176,10 +177,12 @@ VertexOffset MeasureOffset(const std::vector<RefinementView>& views, const Verte
 
   const int num_offsets = 2 * options.offsets + 1;
   std::vector<double> score(num_offsets, std::numeric_limits<double>::quiet_NaN());
-  std::vector<std::vector<float>> values(count, std::vector<float>(samples));
+  // View j's samples at values[j * samples ...], refilled at each offset.
+  std::vector<float> values(static_cast<size_t>(count) * samples);
+  std::vector<uint8_t> inside(count);
   for (int k = 0; k < num_offsets; ++k) {
     const Eigen::Vector3d centre = point + (k - options.offsets) * step * normal;
-    std::vector<bool> inside(count, true);
+    std::fill(inside.begin(), inside.end(), 1);
     for (int j = 0; j < count; ++j) {
       const RefinementView& view = views[view_ids[j]];
       const WarpSource source{view.gray.ptr<float>(), view.gray.cols, view.gray.rows};
@@ -192,15 +195,15 @@ VertexOffset MeasureOffset(const std::vector<RefinementView>& views, const Verte
         for (int a = -r; a <= r; ++a, ++s) {
           const Eigen::Vector3d in_camera = c + a * du + b * dw;
           if (in_camera.z() <= 0) {
-            inside[j] = false;
+            inside[j] = 0;
             break;
           }
           const Eigen::Vector2d p = view.camera.camera.Project(in_camera);
           if (p.x() < 0 || p.y() < 0 || p.x() > source.width || p.y() > source.height) {
-            inside[j] = false;
+            inside[j] = 0;
             break;
           }
-          values[j][s] =
+          values[j * samples + s] =
               SampleBilinear(source, static_cast<float>(p.x()), static_cast<float>(p.y()));
         }
     }
@@ -209,7 +212,7 @@ VertexOffset MeasureOffset(const std::vector<RefinementView>& views, const Verte
     int used = 0;
     for (int j = 1; j < count; ++j) {
       if (!inside[j]) continue;
-      const double ncc = Ncc(values[0], values[j]);
+      const double ncc = Ncc(&values[0], &values[j * samples], samples);
       if (std::isnan(ncc)) continue;
       sum += ncc;
       ++used;
