@@ -1,6 +1,7 @@
 // Texturing the rendered synthetic scene (exact cameras, exact geometry) and rendering it back:
 // the rendering matches the photos where the mesh covers them, with and without lens distortion.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "synthetic_mesh.h"
 #include "varsfm/synthetic/rendered_scene.h"
@@ -55,6 +56,26 @@ TEST(Texture, RenderingMatchesThePhotosItWasTexturedFrom) {
     EXPECT_GT(s.coverage, 0.85) << image;
     EXPECT_GT(s.psnr_db, 25.0) << image;
   }
+}
+
+// The exposure gains' pairs, the levelling's channels and the seams' bands are computed in
+// parallel, each into its own place: the textured model is the same bits at any thread count.
+TEST(Texture, SameModelWhateverTheThreadCount) {
+  TextureMappingOptions options;
+  options.levelling.direct_max_unknowns = 0;  // the conjugate gradients, channel by channel
+  const auto textured_with = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return TextureScene(0.0, 6, options).mesh;
+  };
+  const TexturedMesh one = textured_with(1), four = textured_with(4);
+  ASSERT_EQ(one.pages.size(), four.pages.size());
+  ASSERT_FALSE(one.pages.empty());
+  for (size_t p = 0; p < one.pages.size(); ++p) {
+    ASSERT_EQ(one.pages[p].size(), four.pages[p].size());
+    EXPECT_EQ(cv::norm(one.pages[p], four.pages[p], cv::NORM_INF), 0) << p;
+  }
+  EXPECT_EQ(one.texcoords, four.texcoords);
+  EXPECT_EQ(one.face_texcoords, four.face_texcoords);
 }
 
 // From copies of half the photos' size: a quarter of the atlas, and the rendering at full size

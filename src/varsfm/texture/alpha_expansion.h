@@ -7,6 +7,7 @@
 // within a factor 2 of the global minimum; with two labels it is the global minimum.
 #include <array>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace varsfm {
@@ -32,8 +33,9 @@ double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels);
 
 // Starts from `labels` (each a candidate of its node, or -1 for nodes without candidates) and
 // expands every label in turn, in a fixed order, until a whole cycle lowers the energy by at most
-// `tolerance` x the energy before it or `max_cycles` are done. Deterministic.
+// `tolerance` x the energy before it or `max_cycles` are done. Deterministic. A non-empty
+// `progress_label` shows the moves' progress under that label.
 void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
-                  double tolerance);
+                  double tolerance, const std::string& progress_label = "");
 
 }  // namespace varsfm

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -45,10 +46,14 @@ Eigen::MatrixXd SolveNormalEquations(const Eigen::SparseMatrix<double>& normal,
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
     if (solver.info() == Eigen::Success) g = solver.solve(rhs);  // fails never: SPD by the ridge
   } else {
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setTolerance(options.iterative_tolerance);
-    solver.compute(normal);
-    for (int c = 0; c < rhs.cols(); ++c) g.col(c) = solver.solve(rhs.col(c));
+    // The channels are independent systems: solved side by side, a solver each (a solve
+    // records its iterations in the solver).
+    tbb::parallel_for(0, static_cast<int>(rhs.cols()), [&](int c) {
+      Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+      solver.setTolerance(options.iterative_tolerance);
+      solver.compute(normal);
+      g.col(c) = solver.solve(rhs.col(c));
+    });
   }
   debug("texture: levelling solved for {} unknowns ({}) in {:.1f} s", normal.rows(),
         direct ? "sparse Cholesky" : "conjugate gradients", timer.Seconds());
@@ -174,6 +179,8 @@ std::vector<std::array<Eigen::Vector3f, 3>> LevelColours(
                      Eigen::Vector3d::Zero());
   }
   for (int i = 0; i < n; ++i) triplets.emplace_back(i, i, options.ridge);
+  info("texture: levelling colours across the seams at {} vertices ({} corrections)",
+       seam_vertices.size(), n);
   Eigen::SparseMatrix<double> normal(n, n);
   normal.setFromTriplets(triplets.begin(), triplets.end());
   const Eigen::MatrixXd g = SolveNormalEquations(normal, rhs, options);

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/Dense>
 
 #include "varsfm/util/option_check.h"
+#include "varsfm/util/progress.h"
 
 namespace varsfm {
 
@@ -19,8 +21,10 @@ struct PairEstimate {
   double m[3] = {0, 0, 0};
 };
 
-// The pairs in (i, j) order. View by view, so that only one view's log-ratios are held at once
-// (all pairs' at once grew with the square of the views seeing a face; docs/measurements.md).
+// The pairs in (i, j) order. View i's pairs with later views are estimated from i's log-ratios
+// alone, so the views are taken in parallel, each holding only its own (all pairs' at once grew
+// with the square of the views seeing a face; docs/measurements.md), and their pairs are put
+// together in view order: the same pairs at any thread count.
 std::vector<PairEstimate> PairEstimates(const FaceObservations& obs,
                                         const ExposureGainOptions& options) {
   const size_t num_views = obs.num_views;
@@ -34,17 +38,18 @@ std::vector<PairEstimate> PairEstimates(const FaceObservations& obs,
   for (size_t f = 0; f < obs.num_faces; ++f)
     for (size_t k = obs.begin[f]; k < obs.begin[f + 1]; ++k)
       if (usable(k)) entries_of_view[obs.view[k]].emplace_back(f, k);
-  std::vector<PairEstimate> pairs;
-  std::vector<std::vector<Eigen::Vector3f>> ratios(num_views);  // view i's, by the other view
-  std::vector<float> values;
-  for (size_t i = 0; i < num_views; ++i) {
-    for (std::vector<Eigen::Vector3f>& r : ratios) r.clear();
-    for (const auto& [f, ka] : entries_of_view[i])
+  std::vector<std::vector<PairEstimate>> pairs_of_view(num_views);
+  Progress progress("texture: exposure", num_views);
+  tbb::parallel_for(size_t{0}, num_views, [&](size_t i) {
+    std::vector<std::vector<Eigen::Vector3f>> ratios(num_views);  // view i's, by the other view
+    for (const auto& [f, ka] : entries_of_view[i]) {
+      const Eigen::Array3f log_a = obs.colour[ka].array().log();
       for (size_t kb = ka + 1; kb < obs.begin[f + 1]; ++kb)  // the face's later views
         if (usable(kb))
-          ratios[obs.view[kb]].push_back(
-              (obs.colour[ka].array().log() - obs.colour[kb].array().log()).matrix());
+          ratios[obs.view[kb]].push_back((log_a - obs.colour[kb].array().log()).matrix());
+    }
     std::vector<std::pair<size_t, size_t>>().swap(entries_of_view[i]);
+    std::vector<float> values;
     for (size_t j = i + 1; j < num_views; ++j) {
       const std::vector<Eigen::Vector3f>& r = ratios[j];
       if (static_cast<int>(r.size()) < options.min_shared_faces) continue;
@@ -55,9 +60,13 @@ std::vector<PairEstimate> PairEstimates(const FaceObservations& obs,
         std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
         pair.m[channel] = -values[values.size() / 2];
       }
-      pairs.push_back(pair);
+      pairs_of_view[i].push_back(pair);
     }
-  }
+    progress.Tick();
+  });
+  std::vector<PairEstimate> pairs;
+  for (const std::vector<PairEstimate>& of_view : pairs_of_view)
+    pairs.insert(pairs.end(), of_view.begin(), of_view.end());
   return pairs;
 }
 

@@ -1,9 +1,13 @@
 #include "varsfm/texture/seam_blending.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <utility>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
@@ -61,15 +65,21 @@ struct SeamField {
   cv::Mat half_gap;  // CV_32FC3
 };
 
+// The rows [first, last] of the page that a side's strip may reach.
+std::pair<int, int> SideRows(const SeamSide& s, int rows, double width) {
+  return {std::max(0, static_cast<int>(std::floor(std::min(s.p0.y(), s.p1.y()) - width))),
+          std::min(rows - 1, static_cast<int>(std::max(s.p0.y(), s.p1.y()) + width))};
+}
+
+// Marks the side's strip in rows [row_begin, row_end) of the page.
 void MarkSeamSide(const SeamSide& s, const TexturedMesh& mesh, const cv::Mat& owner, double width,
-                  SeamField* field) {
+                  int row_begin, int row_end, SeamField* field) {
   const Eigen::Vector2d d = s.p1 - s.p0;
   const double length2 = std::max(d.squaredNorm(), 1e-12);
   const int x0 = std::max(0, static_cast<int>(std::floor(std::min(s.p0.x(), s.p1.x()) - width)));
-  const int y0 = std::max(0, static_cast<int>(std::floor(std::min(s.p0.y(), s.p1.y()) - width)));
   const int x1 = std::min(owner.cols - 1, static_cast<int>(std::max(s.p0.x(), s.p1.x()) + width));
-  const int y1 = std::min(owner.rows - 1, static_cast<int>(std::max(s.p0.y(), s.p1.y()) + width));
-  for (int y = y0; y <= y1; ++y) {
+  const auto [y0, y1] = SideRows(s, owner.rows, width);
+  for (int y = std::max(y0, row_begin); y <= std::min(y1, row_end - 1); ++y) {
     const int* who = owner.ptr<int>(y);
     float* dist = field->distance.ptr<float>(y);
     cv::Vec3f* gap = field->half_gap.ptr<cv::Vec3f>(y);
@@ -132,10 +142,19 @@ void SolveStrip(const SeamField& field, const cv::Mat& owner, double width, cv::
     // Conjugate gradients: the strip is a few texels wide, so its Laplacian is well conditioned
     // (about strip_width^2) and a few dozen iterations reach the tolerance (1e-4 of the gaps:
     // far below a grey level), with less memory than factorising it.
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-    solver.setTolerance(1e-4);
-    solver.compute(laplacian);
-    if (solver.info() == Eigen::Success) solution = solver.solve(rhs);
+    // The channels are independent systems: solved side by side, a solver each.
+    solution.resize(n, 3);
+    std::atomic<bool> solved = true;
+    tbb::parallel_for(0, 3, [&](int c) {
+      Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+      solver.setTolerance(1e-4);
+      solver.compute(laplacian);
+      if (solver.info() == Eigen::Success)
+        solution.col(c) = solver.solve(rhs.col(c));
+      else
+        solved = false;
+    });
+    if (!solved) solution.resize(0, 0);
   }
   for (int y = 0; y < h; ++y) {
     cv::Vec3b* texel = page->ptr<cv::Vec3b>(y);
@@ -172,7 +191,26 @@ void BlendSeams(const std::vector<std::array<int, 3>>& neighbours, const std::ve
         cv::Mat(size, CV_32FC1, cv::Scalar::all(std::numeric_limits<float>::infinity()));
     fields[p].half_gap = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
   }
-  for (const SeamSide& s : sides) MarkSeamSide(s, *mesh, owner[s.page], width, &fields[s.page]);
+  // A texel takes the nearest of the sides of its chart, the first of equally near ones: the
+  // sides are marked in their order, band of rows by band of rows in parallel (each band's
+  // texels see the same sides in the same order as one pass would show them).
+  constexpr int kBandRows = 32;
+  for (size_t p = 0; p < fields.size(); ++p) {
+    const int rows = mesh->pages[p].rows;
+    const int num_bands = (rows + kBandRows - 1) / kBandRows;
+    std::vector<std::vector<uint32_t>> sides_of_band(num_bands);
+    for (uint32_t i = 0; i < sides.size(); ++i) {
+      if (sides[i].page != static_cast<int>(p)) continue;
+      const auto [first, last] = SideRows(sides[i], rows, width);
+      if (first > last) continue;  // off the page
+      for (int b = first / kBandRows; b <= last / kBandRows; ++b) sides_of_band[b].push_back(i);
+    }
+    tbb::parallel_for(0, num_bands, [&](int b) {
+      for (const uint32_t i : sides_of_band[b])
+        MarkSeamSide(sides[i], *mesh, owner[p], width, b * kBandRows,
+                     std::min(rows, (b + 1) * kBandRows), &fields[p]);
+    });
+  }
   for (size_t p = 0; p < fields.size(); ++p)
     SolveStrip(fields[p], owner[p], width, &mesh->pages[p]);
 }

@@ -16,6 +16,7 @@
 #include "varsfm/texture/face_adjacency.h"
 #include "varsfm/texture/texture_charts.h"
 #include "varsfm/util/error.h"
+#include "varsfm/util/log.h"
 #include "varsfm/util/option_check.h"
 #include "varsfm/util/progress.h"
 #include "varsfm/util/timer.h"
@@ -278,6 +279,7 @@ TexturedMesh TextureMesh(const TriangleMesh& mesh, const std::vector<PosedCamera
   std::vector<int> chart_of_face(mesh.faces.size(), -1);
   for (size_t c = 0; c < charts.size(); ++c)
     for (const int f : charts[c].faces) chart_of_face[f] = static_cast<int>(c);
+  info("texture: blending the seams between {} charts", charts.size());
   BlendSeams(neighbours, selection.labels, chart_of_face, owner, options.seams, &out);
   if (options.bleed_rings > 0) {
     for (size_t p = 0; p < out.pages.size(); ++p)

@@ -59,7 +59,7 @@ ViewSelection SelectViews(const std::vector<Eigen::Vector3d>& vertices,
   selection.labels = best_view;
   if (options.smoothness > 0)
     ExpandLabels(problem, options.max_expansion_cycles, &selection.labels,
-                 options.expansion_tolerance);
+                 options.expansion_tolerance, "texture: view selection");
   for (size_t f = 0; f < faces.size(); ++f)
     selection.num_changed_by_smoothing += selection.labels[f] != best_view[f];
   selection.coverage = std::move(obs.coverage);
