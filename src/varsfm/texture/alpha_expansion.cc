@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <utility>
 
 #include <fmt/format.h>
 
@@ -19,25 +18,19 @@ namespace {
 // two unary terms and one edge p -> q, cut when p stays on the source side (x_p = 0) and q goes
 // to the sink side (x_q = 1). Returns whether any node changed.
 //
-// Only the nodes with alpha among their candidates can move (`nodes_of_alpha`, ascending, each
-// with its data cost for alpha), so a move costs what they do, not a pass over every node: with
-// a label per photo, passes over every node for every label grew with the photos times the
-// faces. The data costs are looked up once, not searched for among a node's candidates at every
-// move: `label_cost` holds each node's cost for its current label and is kept up to date.
-// `vertex_of` (one entry per node, -1 outside the move) is shared by the moves and left all -1.
-bool ExpandOne(const PottsProblem& problem, int alpha,
-               const std::vector<std::pair<size_t, float>>& nodes_of_alpha,
-               std::vector<long>* vertex_of_nodes, std::vector<float>* label_cost,
-               std::vector<int>* labels_in_out) {
+// Only the nodes with alpha among their candidates can move (`nodes_of_alpha`, ascending), so a
+// move costs what they do, not a pass over every node: with a label per photo, passes over
+// every node for every label grew with the photos times the faces. `vertex_of` (one entry per
+// node, -1 outside the move) is shared by the moves and left all -1.
+bool ExpandOne(const PottsProblem& problem, int alpha, const std::vector<size_t>& nodes_of_alpha,
+               std::vector<long>* vertex_of_nodes, std::vector<int>* labels_in_out) {
   std::vector<int>& labels = *labels_in_out;
   std::vector<long>& vertex_of = *vertex_of_nodes;
   std::vector<size_t> movable;
-  std::vector<float> alpha_cost;
-  for (const auto& [i, cost] : nodes_of_alpha) {
+  for (const size_t i : nodes_of_alpha) {
     if (labels[i] >= 0 && labels[i] != alpha) {
       vertex_of[i] = static_cast<long>(movable.size());
       movable.push_back(i);
-      alpha_cost.push_back(cost);
     }
   }
   if (movable.empty()) return false;
@@ -46,8 +39,8 @@ bool ExpandOne(const PottsProblem& problem, int alpha,
   std::vector<double> cost_keep(movable.size()), cost_alpha(movable.size());
   for (size_t k = 0; k < movable.size(); ++k) {
     const size_t i = movable[k];
-    cost_keep[k] += (*label_cost)[i];
-    cost_alpha[k] += alpha_cost[k];
+    cost_keep[k] += problem.Cost(i, labels[i]);
+    cost_alpha[k] += problem.Cost(i, alpha);
     for (const int j : problem.neighbours[i]) {
       if (j < 0 || labels[j] < 0) continue;
       if (vertex_of[j] < 0) {  // fixed neighbour: a unary term
@@ -75,7 +68,6 @@ bool ExpandOne(const PottsProblem& problem, int alpha,
     vertex_of[movable[k]] = -1;
     if (!keeps[k]) {
       labels[movable[k]] = alpha;
-      (*label_cost)[movable[k]] = alpha_cost[k];
       changed = true;
     }
   }
@@ -104,9 +96,8 @@ double PottsEnergy(const PottsProblem& problem, const std::vector<int>& labels) 
 
 void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>* labels,
                   double tolerance, const std::string& progress_label) {
-  // Per label, the nodes that have it among their candidates (Cost >= 0), in node order, with
-  // that cost (Cost's: the label's first candidate entry).
-  std::vector<std::vector<std::pair<size_t, float>>> nodes_of(problem.num_labels);
+  // Per label, the nodes that have it among their candidates (Cost >= 0), in node order.
+  std::vector<std::vector<size_t>> nodes_of(problem.num_labels);
   for (size_t i = 0; i < problem.num_nodes(); ++i)
     for (size_t c = problem.offsets[i]; c < problem.offsets[i + 1]; ++c) {
       const int label = problem.candidate_labels[c];
@@ -114,11 +105,8 @@ void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>*
       if (std::find(first, problem.candidate_labels.begin() + c, label) ==
               problem.candidate_labels.begin() + c &&
           problem.candidate_costs[c] >= 0)
-        nodes_of[label].emplace_back(i, problem.candidate_costs[c]);
+        nodes_of[label].push_back(i);
     }
-  std::vector<float> label_cost(problem.num_nodes(), 0);
-  for (size_t i = 0; i < problem.num_nodes(); ++i)
-    if ((*labels)[i] >= 0) label_cost[i] = problem.Cost(i, (*labels)[i]);
   std::vector<long> vertex_of(problem.num_nodes(), -1);
   std::optional<Progress> progress;
   if (!progress_label.empty())
@@ -126,7 +114,7 @@ void ExpandLabels(const PottsProblem& problem, int max_cycles, std::vector<int>*
   double energy = PottsEnergy(problem, *labels);
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     for (int alpha = 0; alpha < problem.num_labels; ++alpha) {
-      ExpandOne(problem, alpha, nodes_of[alpha], &vertex_of, &label_cost, labels);
+      ExpandOne(problem, alpha, nodes_of[alpha], &vertex_of, labels);
       if (progress) progress->Tick(1, fmt::format("cycle {}", cycle + 1));
     }
     const double after = PottsEnergy(problem, *labels);

@@ -1,7 +1,6 @@
 #include "varsfm/texture/seam_blending.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -142,19 +141,10 @@ void SolveStrip(const SeamField& field, const cv::Mat& owner, double width, cv::
     // Conjugate gradients: the strip is a few texels wide, so its Laplacian is well conditioned
     // (about strip_width^2) and a few dozen iterations reach the tolerance (1e-4 of the gaps:
     // far below a grey level), with less memory than factorising it.
-    // The channels are independent systems: solved side by side, a solver each.
-    solution.resize(n, 3);
-    std::atomic<bool> solved = true;
-    tbb::parallel_for(0, 3, [&](int c) {
-      Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
-      solver.setTolerance(1e-4);
-      solver.compute(laplacian);
-      if (solver.info() == Eigen::Success)
-        solution.col(c) = solver.solve(rhs.col(c));
-      else
-        solved = false;
-    });
-    if (!solved) solution.resize(0, 0);
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> solver;
+    solver.setTolerance(1e-4);
+    solver.compute(laplacian);
+    if (solver.info() == Eigen::Success) solution = solver.solve(rhs);
   }
   for (int y = 0; y < h; ++y) {
     cv::Vec3b* texel = page->ptr<cv::Vec3b>(y);
