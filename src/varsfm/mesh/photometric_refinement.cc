@@ -67,15 +67,16 @@ struct VertexViews {
 // A vertex is seen by a view when it projects inside it, in front of (or on) the nearest face of
 // the mesh's z-buffer there, and its normal makes an angle with the direction to the view's
 // centre whose cosine is min_cos_angle or more. Appends (vertex, cosine) for each, in vertex
-// order.
+// order. `projected`: a buffer for the vertices' projections, reused from view to view.
 void SeenInView(const RefinementView& view, const TriangleMesh& mesh,
                 const std::vector<Eigen::Vector3d>& normals,
                 const PhotometricRefinementOptions& options,
+                std::vector<ProjectedVertex>* projected_buffer,
                 std::vector<std::pair<uint32_t, float>>* seen) {
   const PosedCamera& camera = view.camera;
   const int width = view.gray.cols, height = view.gray.rows;
-  const std::vector<ProjectedVertex> projected =
-      ProjectVertices(mesh.vertices, camera.camera, camera.cam_from_world);
+  ProjectVertices(mesh.vertices, camera.camera, camera.cam_from_world, 1.0, projected_buffer);
+  const std::vector<ProjectedVertex>& projected = *projected_buffer;
   const FaceRaster raster = RasterizeFaces(projected, mesh.faces, width, height);
   const Eigen::Vector3d centre = camera.cam_from_world.Center();
   for (size_t i = 0; i < projected.size(); ++i) {
@@ -123,11 +124,12 @@ VertexViews FindVertexViews(const std::vector<RefinementView>& views, const Tria
   };
   constexpr size_t kBatch = 8;
   std::vector<std::vector<std::pair<uint32_t, float>>> batch(kBatch);
+  std::vector<std::vector<ProjectedVertex>> projected(kBatch);  // mesh-sized, kept per slot
   for (size_t first = 0; first < views.size(); first += kBatch) {
     const size_t last = std::min(views.size(), first + kBatch);
     tbb::parallel_for(first, last, [&](size_t v) {
       batch[v - first].clear();
-      SeenInView(views[v], mesh, normals, options, &batch[v - first]);
+      SeenInView(views[v], mesh, normals, options, &projected[v - first], &batch[v - first]);
       progress->Tick();
     });
     for (size_t v = first; v < last; ++v)
