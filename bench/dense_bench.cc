@@ -1,7 +1,8 @@
 // PatchMatch's innermost loop (dense/window_warp.h) by kernel: one window of the default size
 // (radius 5, step 2: 25 samples) warped into a 800 x 533 source by a perspective homography,
-// per call. And fusion's consistency filter and fusion (dense/depth_fusion.h) of N exact depth
-// maps of a street, each view checked against every other one or against its overlapping views.
+// per call, at random centres or along rows. And fusion's consistency filter and fusion
+// (dense/depth_fusion.h) of N exact depth maps of a street, each view checked against every other
+// one or against its overlapping views.
 #include <algorithm>
 #include <array>
 #include <random>
@@ -37,9 +38,14 @@ void BM_WarpAndSum(benchmark::State& state) {
     }
   const varsfm::WarpWindow window{dx.data(), dy.data(), value.data(), weight.data(), count};
   const varsfm::WarpSource source{pixels.data(), kWidth, kHeight};
-  // Centres spread over the image, so the loads miss the cache as PatchMatch's do.
+  // Centres spread over the image (every load misses the cache), or walking along rows two
+  // pixels at a time as a PatchMatch half-sweep does (neighbouring windows share cache lines).
+  const bool row_walk = state.range(1) != 0;
   std::vector<std::array<float, 3>> centres(4096);
-  for (auto& c : centres) c = {20 + 760 * unit(rng), 20 + 493 * unit(rng), 1.0f};
+  for (size_t c = 0; c < centres.size(); ++c)
+    centres[c] = row_walk ? std::array<float, 3>{20.5f + 2.0f * static_cast<float>(c % 380),
+                                                 20.5f + static_cast<float>(c / 380), 1.0f}
+                          : std::array<float, 3>{20 + 760 * unit(rng), 20 + 493 * unit(rng), 1.0f};
   const std::array<float, 9> H = {0.98f, 0.03f, 1e-5f, -0.02f, 1.01f, 2e-5f, 0.0f, 0.0f, 1.0f};
   size_t k = 0;
   for (auto _ : state) {
@@ -50,10 +56,10 @@ void BM_WarpAndSum(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WarpAndSum)
-    ->Arg(static_cast<int>(WarpKernel::kPlain))
-    ->Arg(static_cast<int>(WarpKernel::kSse2))
-    ->Arg(static_cast<int>(WarpKernel::kAvx2))
-    ->ArgName("kernel");
+    ->ArgsProduct({{static_cast<int>(WarpKernel::kPlain), static_cast<int>(WarpKernel::kSse2),
+                    static_cast<int>(WarpKernel::kAvx2)},
+                   {0, 1}})
+    ->ArgNames({"kernel", "row_walk"});
 
 // View i of a street: at x = 0.5 i looking along +z at the facade z = 10, 80 x 60 pixels, its
 // exact depth map; with `overlapping`, checked against the 50 nearest views (the views that see

@@ -129,19 +129,33 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
 }
 #endif
 
-// The portable path, one sample at a time (each lane's operations as SampleBilinear's).
+// Sample i's warped intensity into *v, with each lane's operations of the vector paths in their
+// order (SampleBilinear's). False when it falls behind the source.
+[[gnu::always_inline]] inline bool WarpOne(const WarpWindow& w, const WarpSource& src,
+                                           const float* H, const float* h0, int i, float* v) {
+  const float hx = (h0[0] + H[0] * w.dx[i]) + H[3] * w.dy[i];
+  const float hy = (h0[1] + H[1] * w.dx[i]) + H[4] * w.dy[i];
+  const float hz = (h0[2] + H[2] * w.dx[i]) + H[5] * w.dy[i];
+  if (hz <= 1e-6f) return false;
+  *v = SampleBilinear(src, hx / hz, hy / hz);
+  return true;
+}
+
+// Adds sample i's terms, its intensity v, to the partial sums of lane l.
+[[gnu::always_inline]] inline void AccumulateOne(const WarpWindow& w, int i, float v, int l,
+                                                 float* s, float* ss, float* rs) {
+  const float wv = w.weight[i] * v;
+  s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
+}
+
+// The portable path, one sample at a time.
 bool WarpAndSumPlain(const WarpWindow& w, const WarpSource& src, const float* H, const float* h0,
                      WarpSums* sums) {
   float s[kWarpLanes] = {}, ss[kWarpLanes] = {}, rs[kWarpLanes] = {};
   for (int i = 0; i < w.count; ++i) {
-    const float hx = (h0[0] + H[0] * w.dx[i]) + H[3] * w.dy[i];
-    const float hy = (h0[1] + H[1] * w.dx[i]) + H[4] * w.dy[i];
-    const float hz = (h0[2] + H[2] * w.dx[i]) + H[5] * w.dy[i];
-    if (hz <= 1e-6f) return false;
-    const float v = SampleBilinear(src, hx / hz, hy / hz);
-    const float wv = w.weight[i] * v;
-    const int l = i % kWarpLanes;
-    s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
+    float v;
+    if (!WarpOne(w, src, H, h0, i, &v)) return false;
+    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
   }
   SumLanes(s, ss, rs, sums);
   return true;
@@ -212,22 +226,19 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
     acc_ss = _mm256_add_ps(acc_ss, _mm256_mul_ps(wv, v));
     acc_rs = _mm256_add_ps(acc_rs, _mm256_mul_ps(wv, _mm256_load_ps(w.value + i)));
   }
-  // At most four samples left: one SSE-wide step into lanes 0-3, rather than a whole register of
-  // mostly padding (the default window has 25 samples: 3 x 8 + 1).
-  if (i < w.count) {
-    __m128 v;
-    if (!Warp4(w, src, H, h0, i, &v)) return false;
-    __m128 s = _mm256_castps256_ps128(acc_s), ss = _mm256_castps256_ps128(acc_ss);
-    __m128 rs = _mm256_castps256_ps128(acc_rs);
-    Accumulate4(w, i, v, &s, &ss, &rs);
-    acc_s = _mm256_insertf128_ps(acc_s, s, 0);
-    acc_ss = _mm256_insertf128_ps(acc_ss, ss, 0);
-    acc_rs = _mm256_insertf128_ps(acc_rs, rs, 0);
-  }
   float s[kWarpLanes], ss[kWarpLanes], rs[kWarpLanes];
   _mm256_storeu_ps(s, acc_s);
   _mm256_storeu_ps(ss, acc_ss);
   _mm256_storeu_ps(rs, acc_rs);
+  // At most four samples left (a (2k + 1)^2 window leaves one: odd squares are 1 modulo 8), one
+  // at a time into lanes 0-3: a vector step for them cost a quarter of the whole window's time
+  // (bench/dense_bench). The padded lanes a vector step would have added are 0 + 0 = 0, and the
+  // sums are never -0 (the weights and intensities are not negative), so the bits are the same.
+  for (; i < w.count; ++i) {
+    float v;
+    if (!WarpOne(w, src, H, h0, i, &v)) return false;
+    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
+  }
   SumLanes(s, ss, rs, sums);
   return true;
 }
