@@ -14,6 +14,7 @@
 //                  [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
+//                  [--levels 1] [--fine-iterations 0]
 //                  [--edge-erosion 4]
 //                  [--seed 42] [--write-cloud FILE] [--write-samples FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),
@@ -24,8 +25,8 @@
 // --source-views, --coverage-source, --redundant-weight: the source views (dense/source_views.h);
 // --redundant-fraction, --redundant-other-views, --redundant-max-uncovered, --redundant-max-angle:
 // which views get a depth map (dense/reference_views.h; fraction 0: every view);
-// --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step: PatchMatch's
-// (patchmatch.h);
+// --missing-view-penalty, --max-cost, --best-views, --window-radius, --window-step, --levels,
+// --fine-iterations: PatchMatch's (patchmatch.h);
 // --fusion-reprojection, --fusion-depth, --two-view-cost: fusion's (depth_fusion.h);
 // --edge-erosion: the depths dropped beside the open background before fusion (depth_edges.h);
 // --seed: the scene's seed (RenderedSceneOptions).
@@ -116,6 +117,8 @@ Arguments ParseArguments(int argc, char** argv) {
       {"--max-cost", real(&patchmatch.max_cost)},
       {"--window-radius", integer(&patchmatch.window_radius)},
       {"--window-step", integer(&patchmatch.window_step)},
+      {"--levels", integer(&patchmatch.num_levels)},
+      {"--fine-iterations", integer(&patchmatch.num_fine_iterations)},
       {"--sigma-color", real(&patchmatch.sigma_color)},
       {"--fusion-reprojection", real(&fusion.max_reprojection_error)},
       {"--fusion-depth", real(&fusion.max_depth_difference)},

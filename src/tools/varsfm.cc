@@ -196,9 +196,13 @@ void AddDenseMethodOptions(CLI::App* cmd, varsfm::DenseReconstructionOptions* de
                  "PatchMatch gives no depth to a pixel whose bilateral-weighted window has a "
                  "lower intensity variance (intensities 0 to 1)");
   AddWithDefault(cmd, "--dense-iterations", dense->mvs.patchmatch.num_iterations,
-                 "PatchMatch iterations (red and black sweeps)");
+                 "PatchMatch iterations (red and black sweeps; at the coarsest level when "
+                 "--dense-levels > 1)");
   AddWithDefault(cmd, "--dense-levels", dense->mvs.patchmatch.num_levels,
                  "PatchMatch coarse-to-fine levels (1: the depth-map size only)");
+  AddWithDefault(cmd, "--dense-fine-iterations", dense->mvs.patchmatch.num_fine_iterations,
+                 "PatchMatch iterations at each level started from a coarser one's planes "
+                 "(--dense-levels > 1; 0: --dense-iterations)");
   AddWithDefault(cmd, "--dense-depth-range-percentile", dense->mvs.sources.depth_range_percentile,
                  "PatchMatch depth range: this percentile of a view's sparse depths to 100 minus "
                  "it, widened by a quarter (0: every sparse point)");

@@ -516,9 +516,12 @@ DepthMap EstimateLevels(const std::vector<PatchMatchView>& views, uint32_t refer
                        DeriveSeed(seed, static_cast<uint64_t>(levels)), levels - 1, false);
     upsampled = UpsamplePlanes(coarse, half[reference].K, ref.gray.cols, ref.gray.rows, ref.K);
   }
+  const int iterations = !upsampled.depth.empty() && options.num_fine_iterations > 0
+                             ? options.num_fine_iterations
+                             : options.num_iterations;
   return DepthMapEstimator(views, reference, sources, init,
                            upsampled.depth.empty() ? nullptr : &upsampled, nullptr, options, seed,
-                           options.num_iterations)
+                           iterations)
       .Run(finest);
 }
 
@@ -595,6 +598,7 @@ void PatchMatchOptions::Check() const {
   CheckPositive("--dense-sigma-spatial", sigma_spatial);
   CheckInRange("--dense-iterations", num_iterations, 0, 50);
   CheckInRange("--dense-levels", num_levels, 1, 4);
+  CheckInRange("--dense-fine-iterations", num_fine_iterations, 0, 50);
   CheckInRange("--dense-geometric-iterations", num_geometric_iterations, 0, 50);
   CheckNonNegative("patchmatch geometric_weight", geometric_weight);
   CheckPositive("patchmatch geometric_max_error", geometric_max_error);

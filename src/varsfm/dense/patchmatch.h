@@ -33,11 +33,17 @@ struct PatchMatchOptions {
   // them 4e-6 (bench/results/2026-12-04-sigma-color.md).
   double sigma_color = 0.1;
   double sigma_spatial = 3.0;
-  int num_iterations = 4;  // red + black sweeps, at each level
+  int num_iterations = 4;  // red + black sweeps (at the coarsest level, with num_levels > 1)
   // Coarse to fine: 2 or more estimates the map first at half the size (recursively) and starts
-  // from its planes; 1: the given size only (the default: what 2 gains and costs on the shared
-  // sets is in bench/results/2026-12-03-dense-levels.md).
-  int num_levels = 1;
+  // from its planes; 1: the given size only. At half the size the same window spans four times
+  // the area, so planes converge on weak texture, and a sweep costs a quarter: with two sweeps
+  // at the full size instead of four, the shared sets' held-out views are covered as well or
+  // better at the same PSNR for about a third less PatchMatch time
+  // (bench/results/2026-12-07-s41-coarse-to-fine.md).
+  int num_levels = 2;
+  // Sweeps at each level that starts from a coarser level's planes (0: num_iterations): those
+  // planes start it nearly converged, so it needs fewer.
+  int num_fine_iterations = 2;
   // A second pass at the finest level whose cost adds, per source view, geometric_weight x the
   // forward-backward reprojection error (px, capped at geometric_max_error) through the source's
   // first-pass depth map (Schoenberger et al. 2016, eq. 11; COLMAP's 0.3 and 3 px). 0: none.
