@@ -14,7 +14,7 @@
 //                  [--missing-view-penalty 0] [--max-cost 0.6]
 //                  [--best-views 1] [--fusion-reprojection 1] [--fusion-depth 0.01]
 //                  [--two-view-cost 0.1] [--window-radius 5] [--window-step 2]
-//                  [--levels 1] [--fine-iterations 0]
+//                  [--levels 2] [--fine-iterations 2]
 //                  [--edge-erosion 4]
 //                  [--seed 42] [--write-cloud FILE] [--write-samples FILE]
 // --edge-factors: one Delaunay row per max_edge_factor (delaunay_surface.h; 0 keeps every face),

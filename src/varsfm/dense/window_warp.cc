@@ -231,9 +231,10 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
   _mm256_storeu_ps(ss, acc_ss);
   _mm256_storeu_ps(rs, acc_rs);
   // At most four samples left (a (2k + 1)^2 window leaves one: odd squares are 1 modulo 8), one
-  // at a time into lanes 0-3: a vector step for them cost a quarter of the whole window's time
-  // (bench/dense_bench). The padded lanes a vector step would have added are 0 + 0 = 0, and the
-  // sums are never -0 (the weights and intensities are not negative), so the bits are the same.
+  // at a time into lanes 0-3 rather than by a vector step, whose set-up and split accumulators
+  // cost far more than one sample (bench/results/2026-12-07-s41-warp-tail.md). The padded lanes
+  // a vector step would have added are 0 + 0 = 0, and the sums are never -0 (the weights and
+  // intensities are not negative), so the bits are the same.
   for (; i < w.count; ++i) {
     float v;
     if (!WarpOne(w, src, H, h0, i, &v)) return false;
