@@ -32,6 +32,25 @@ namespace {
 // The mask of the lanes of samples [i, i + lanes) that hold samples, for movemask.
 inline int LiveLanes(int i, int count, int lanes) { return (1 << std::min(lanes, count - i)) - 1; }
 
+// Sample i's warped intensity into *v, with each lane's operations of the vector paths in their
+// order (SampleBilinear's). False when it falls behind the source.
+[[gnu::always_inline]] inline bool WarpOne(const WarpWindow& w, const WarpSource& src,
+                                           const float* H, const float* h0, int i, float* v) {
+  const float hx = (h0[0] + H[0] * w.dx[i]) + H[3] * w.dy[i];
+  const float hy = (h0[1] + H[1] * w.dx[i]) + H[4] * w.dy[i];
+  const float hz = (h0[2] + H[2] * w.dx[i]) + H[5] * w.dy[i];
+  if (hz <= 1e-6f) return false;
+  *v = SampleBilinear(src, hx / hz, hy / hz);
+  return true;
+}
+
+// Adds sample i's terms, its intensity v, to the partial sums of lane l.
+[[gnu::always_inline]] inline void AccumulateOne(const WarpWindow& w, int i, float v, int l,
+                                                 float* s, float* ss, float* rs) {
+  const float wv = w.weight[i] * v;
+  s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
+}
+
 #if defined(__SSE2__)
 // Two adjacent floats (p[0], p[1]) in the low lanes of a register, by one 64-bit load.
 inline __m128 Pair(const float* p) {
@@ -112,7 +131,8 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
                     WarpSums* sums) {
   // Lanes 0-3 and 4-7 of the eight-lane partial sums.
   __m128 acc_s[2] = {}, acc_ss[2] = {}, acc_rs[2] = {};
-  for (int i = 0; i < w.count; i += 4) {
+  int i = 0;
+  for (; w.count - i >= 4; i += 4) {
     __m128 v;
     if (!Warp4(w, src, H, h0, i, &v)) return false;
     const int k = (i / 4) % 2;
@@ -124,29 +144,16 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
     _mm_storeu_ps(ss + 4 * k, acc_ss[k]);
     _mm_storeu_ps(rs + 4 * k, acc_rs[k]);
   }
+  // The samples after whole groups of four one at a time, as in the AVX2 path.
+  for (; i < w.count; ++i) {
+    float v;
+    if (!WarpOne(w, src, H, h0, i, &v)) return false;
+    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
+  }
   SumLanes(s, ss, rs, sums);
   return true;
 }
 #endif
-
-// Sample i's warped intensity into *v, with each lane's operations of the vector paths in their
-// order (SampleBilinear's). False when it falls behind the source.
-[[gnu::always_inline]] inline bool WarpOne(const WarpWindow& w, const WarpSource& src,
-                                           const float* H, const float* h0, int i, float* v) {
-  const float hx = (h0[0] + H[0] * w.dx[i]) + H[3] * w.dy[i];
-  const float hy = (h0[1] + H[1] * w.dx[i]) + H[4] * w.dy[i];
-  const float hz = (h0[2] + H[2] * w.dx[i]) + H[5] * w.dy[i];
-  if (hz <= 1e-6f) return false;
-  *v = SampleBilinear(src, hx / hz, hy / hz);
-  return true;
-}
-
-// Adds sample i's terms, its intensity v, to the partial sums of lane l.
-[[gnu::always_inline]] inline void AccumulateOne(const WarpWindow& w, int i, float v, int l,
-                                                 float* s, float* ss, float* rs) {
-  const float wv = w.weight[i] * v;
-  s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
-}
 
 // The portable path, one sample at a time.
 bool WarpAndSumPlain(const WarpWindow& w, const WarpSource& src, const float* H, const float* h0,
