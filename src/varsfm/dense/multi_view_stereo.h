@@ -28,10 +28,8 @@ struct MultiViewStereoOptions {
 
   // Depth maps are computed at most this size (longer side, px); larger photos are downscaled.
   // On held-out views a larger map gains PSNR and loses coverage (the NCC window is a fixed
-  // number of pixels, so it spans less of a weakly textured surface) for time that grows with
-  // the pixels: 640 / 800 / 1024 px, 25.34 / 25.56 / 25.73 dB over 70.1 / 69.8 / 69.4 % of the
-  // shared sets' held-out photos, densify 256 / 325 / 559 CPU s
-  // (bench/results/2026-12-08-s42-explored.md, section 4).
+  // number of pixels, so it spans less of a weakly textured surface), for time that grows with
+  // the pixels (docs/measurements.md, "The depth maps at 800 px").
   int max_image_size = 800;
   ReferenceViewOptions references;  // which views get a depth map
   SourceViewOptions sources;
