@@ -44,11 +44,23 @@ inline int LiveLanes(int i, int count, int lanes) { return (1 << std::min(lanes,
   return true;
 }
 
-// Adds sample i's terms, its intensity v, to the partial sums of lane l.
-[[gnu::always_inline]] inline void AccumulateOne(const WarpWindow& w, int i, float v, int l,
-                                                 float* s, float* ss, float* rs) {
-  const float wv = w.weight[i] * v;
-  s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
+// Samples [first, w.count) one at a time, each into its lane's partial sums (sample i in lane
+// i % kWarpLanes, as a vector step would put it), then the lanes summed: the whole window on the
+// portable path, the samples after the whole vector groups on the others. False when a sample
+// falls behind the source.
+[[gnu::always_inline]] inline bool FinishOneAtATime(const WarpWindow& w, const WarpSource& src,
+                                                    const float* H, const float* h0, int first,
+                                                    float (&s)[kWarpLanes], float (&ss)[kWarpLanes],
+                                                    float (&rs)[kWarpLanes], WarpSums* sums) {
+  for (int i = first; i < w.count; ++i) {
+    float v;
+    if (!WarpOne(w, src, H, h0, i, &v)) return false;
+    const int l = i % kWarpLanes;
+    const float wv = w.weight[i] * v;
+    s[l] += wv, ss[l] += wv * v, rs[l] += wv * w.value[i];
+  }
+  SumLanes(s, ss, rs, sums);
+  return true;
 }
 
 #if defined(__SSE2__)
@@ -145,13 +157,7 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
     _mm_storeu_ps(rs + 4 * k, acc_rs[k]);
   }
   // The samples after whole groups of four one at a time, as in the AVX2 path.
-  for (; i < w.count; ++i) {
-    float v;
-    if (!WarpOne(w, src, H, h0, i, &v)) return false;
-    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
-  }
-  SumLanes(s, ss, rs, sums);
-  return true;
+  return FinishOneAtATime(w, src, H, h0, i, s, ss, rs, sums);
 }
 #endif
 
@@ -159,13 +165,7 @@ bool WarpAndSumSse2(const WarpWindow& w, const WarpSource& src, const float* H, 
 bool WarpAndSumPlain(const WarpWindow& w, const WarpSource& src, const float* H, const float* h0,
                      WarpSums* sums) {
   float s[kWarpLanes] = {}, ss[kWarpLanes] = {}, rs[kWarpLanes] = {};
-  for (int i = 0; i < w.count; ++i) {
-    float v;
-    if (!WarpOne(w, src, H, h0, i, &v)) return false;
-    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
-  }
-  SumLanes(s, ss, rs, sums);
-  return true;
+  return FinishOneAtATime(w, src, H, h0, 0, s, ss, rs, sums);
 }
 
 #if defined(VARSFM_AVX2_WARP)
@@ -242,13 +242,7 @@ VARSFM_AVX2_TARGET bool WarpAndSumAvx2(const WarpWindow& w, const WarpSource& sr
   // cost far more than one sample (bench/results/2026-12-07-s41-warp-tail.md). The padded lanes
   // a vector step would have added are 0 + 0 = 0, and the sums are never -0 (the weights and
   // intensities are not negative), so the bits are the same.
-  for (; i < w.count; ++i) {
-    float v;
-    if (!WarpOne(w, src, H, h0, i, &v)) return false;
-    AccumulateOne(w, i, v, i % kWarpLanes, s, ss, rs);
-  }
-  SumLanes(s, ss, rs, sums);
-  return true;
+  return FinishOneAtATime(w, src, H, h0, i, s, ss, rs, sums);
 }
 
 bool CpuHasAvx2() {
