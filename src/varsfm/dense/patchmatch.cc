@@ -516,11 +516,10 @@ DepthMap EstimateLevels(const std::vector<PatchMatchView>& views, uint32_t refer
                        DeriveSeed(seed, static_cast<uint64_t>(levels)), levels - 1, false);
     upsampled = UpsamplePlanes(coarse, half[reference].K, ref.gray.cols, ref.gray.rows, ref.K);
   }
-  const int iterations = !upsampled.depth.empty() && options.num_fine_iterations > 0
-                             ? options.num_fine_iterations
-                             : options.num_iterations;
-  return DepthMapEstimator(views, reference, sources, init,
-                           upsampled.depth.empty() ? nullptr : &upsampled, nullptr, options, seed,
+  const DepthMap* coarser = upsampled.depth.empty() ? nullptr : &upsampled;
+  const int iterations = coarser && options.num_fine_iterations > 0 ? options.num_fine_iterations
+                                                                    : options.num_iterations;
+  return DepthMapEstimator(views, reference, sources, init, coarser, nullptr, options, seed,
                            iterations)
       .Run(finest);
 }
